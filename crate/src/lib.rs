@@ -1,0 +1,23 @@
+//! # deeprep
+//!
+//! The four systems of "Deep representations for shapes, structures and
+//! motion" (Yi Zhou, USC, 2020) for the browser and native code.
+//!
+//! Modules, one per concept:
+//! - [`rotation`]: rotation representations (chapter 4, appendix C).
+//! - [`runtime`]: ONNX models run by tract.
+//! - [`rng`]: a deterministic seeded random generator.
+//! - `wasm` (wasm32 only): the thin wasm-bindgen layer.
+//!
+//! The core is pure Rust with no web types, so it is tested natively.
+
+pub mod error;
+pub mod rng;
+pub mod rotation;
+pub mod runtime;
+pub mod skeleton;
+
+#[cfg(target_arch = "wasm32")]
+pub mod wasm;
+
+pub use error::{Error, Result};

@@ -1,0 +1,470 @@
+//! BVH reading and writing.
+//!
+//! A [`Bvh`] holds the joint tree (End Sites are joints with no channels,
+//! named `<parent>_Nub` unless the file names them) and the motion as one
+//! flat `f32` array, frame-major. Parsing is a single pass over the text:
+//! linear in the file size. Errors name the line and what was expected.
+
+use crate::error::{Error, Result};
+use std::fmt::Write as _;
+
+/// One BVH channel.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum Channel {
+    /// Translation along X.
+    Xposition,
+    /// Translation along Y.
+    Yposition,
+    /// Translation along Z.
+    Zposition,
+    /// Rotation about X, degrees.
+    Xrotation,
+    /// Rotation about Y, degrees.
+    Yrotation,
+    /// Rotation about Z, degrees.
+    Zrotation,
+}
+
+impl Channel {
+    fn parse(s: &str) -> Option<Channel> {
+        Some(match s.to_ascii_lowercase().as_str() {
+            "xposition" => Channel::Xposition,
+            "yposition" => Channel::Yposition,
+            "zposition" => Channel::Zposition,
+            "xrotation" => Channel::Xrotation,
+            "yrotation" => Channel::Yrotation,
+            "zrotation" => Channel::Zrotation,
+            _ => return None,
+        })
+    }
+
+    /// The name as written in BVH files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Channel::Xposition => "Xposition",
+            Channel::Yposition => "Yposition",
+            Channel::Zposition => "Zposition",
+            Channel::Xrotation => "Xrotation",
+            Channel::Yrotation => "Yrotation",
+            Channel::Zrotation => "Zrotation",
+        }
+    }
+
+    /// True for the rotation channels.
+    pub fn is_rotation(self) -> bool {
+        matches!(
+            self,
+            Channel::Xrotation | Channel::Yrotation | Channel::Zrotation
+        )
+    }
+
+    /// Axis index 0, 1, 2 for X, Y, Z.
+    pub fn axis(self) -> usize {
+        match self {
+            Channel::Xposition | Channel::Xrotation => 0,
+            Channel::Yposition | Channel::Yrotation => 1,
+            Channel::Zposition | Channel::Zrotation => 2,
+        }
+    }
+}
+
+/// One joint (or End Site) of the hierarchy.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Joint {
+    /// Joint name.
+    pub name: String,
+    /// Index of the parent joint; `None` for the root.
+    pub parent: Option<usize>,
+    /// Rest offset from the parent.
+    pub offset: [f32; 3],
+    /// Channels, in file order.
+    pub channels: Vec<Channel>,
+    /// Index of this joint's first channel within a frame.
+    pub channel_start: usize,
+    /// True for an End Site.
+    pub end_site: bool,
+}
+
+/// A parsed BVH file: hierarchy plus motion.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bvh {
+    /// Joints in file (depth-first) order; parents precede children.
+    pub joints: Vec<Joint>,
+    /// Seconds per frame.
+    pub frame_time: f64,
+    /// Channel values, `frames × channel_count`, frame-major.
+    pub motion: Vec<f32>,
+}
+
+impl Bvh {
+    /// Channels per frame.
+    pub fn channel_count(&self) -> usize {
+        self.joints.iter().map(|j| j.channels.len()).sum()
+    }
+
+    /// Number of frames.
+    pub fn frame_count(&self) -> usize {
+        let c = self.channel_count();
+        if c == 0 {
+            0
+        } else {
+            self.motion.len() / c
+        }
+    }
+
+    /// The channel values of one frame.
+    pub fn frame(&self, f: usize) -> &[f32] {
+        let c = self.channel_count();
+        &self.motion[f * c..(f + 1) * c]
+    }
+
+    /// Frames per second (1 / frame time).
+    pub fn fps(&self) -> f64 {
+        1.0 / self.frame_time
+    }
+
+    /// Index of a joint by name.
+    pub fn joint_index(&self, name: &str) -> Option<usize> {
+        self.joints.iter().position(|j| j.name == name)
+    }
+
+    /// Children of each joint.
+    pub fn children(&self) -> Vec<Vec<usize>> {
+        let mut c = vec![Vec::new(); self.joints.len()];
+        for (i, j) in self.joints.iter().enumerate() {
+            if let Some(p) = j.parent {
+                c[p].push(i);
+            }
+        }
+        c
+    }
+
+    /// Parses BVH text.
+    pub fn parse(text: &str) -> Result<Bvh> {
+        Parser::new(text).parse()
+    }
+
+    /// Parses BVH bytes (UTF-8, or Latin-1 fallback for stray bytes).
+    pub fn parse_bytes(bytes: &[u8]) -> Result<Bvh> {
+        match std::str::from_utf8(bytes) {
+            Ok(s) => Self::parse(s),
+            Err(_) => Self::parse(&bytes.iter().map(|&b| b as char).collect::<String>()),
+        }
+    }
+
+    /// Writes BVH text. Values are written in the shortest form that reads
+    /// back to the same `f32`, so write → parse is exact.
+    pub fn write(&self) -> String {
+        let mut s = String::with_capacity(64 * self.joints.len() + 12 * self.motion.len());
+        s.push_str("HIERARCHY\n");
+        let children = self.children();
+        if !self.joints.is_empty() {
+            self.write_joint(&mut s, 0, 0, &children);
+        }
+        let _ = writeln!(
+            s,
+            "MOTION\nFrames: {}\nFrame Time: {}",
+            self.frame_count(),
+            self.frame_time
+        );
+        let c = self.channel_count();
+        if c > 0 {
+            for frame in self.motion.chunks(c) {
+                for (i, v) in frame.iter().enumerate() {
+                    if i > 0 {
+                        s.push(' ');
+                    }
+                    let _ = write!(s, "{v}");
+                }
+                s.push('\n');
+            }
+        }
+        s
+    }
+
+    fn write_joint(&self, s: &mut String, j: usize, depth: usize, children: &[Vec<usize>]) {
+        let ind = "  ".repeat(depth);
+        let joint = &self.joints[j];
+        let o = joint.offset;
+        if joint.end_site {
+            let _ = writeln!(
+                s,
+                "{ind}End Site\n{ind}{{\n{ind}  OFFSET {} {} {}\n{ind}}}",
+                o[0], o[1], o[2]
+            );
+            return;
+        }
+        let kw = if joint.parent.is_none() {
+            "ROOT"
+        } else {
+            "JOINT"
+        };
+        let _ = writeln!(
+            s,
+            "{ind}{kw} {}\n{ind}{{\n{ind}  OFFSET {} {} {}",
+            joint.name, o[0], o[1], o[2]
+        );
+        let names: Vec<&str> = joint.channels.iter().map(|c| c.name()).collect();
+        let _ = writeln!(s, "{ind}  CHANNELS {} {}", names.len(), names.join(" "));
+        for &c in &children[j] {
+            self.write_joint(s, c, depth + 1, children);
+        }
+        let _ = writeln!(s, "{ind}}}");
+    }
+}
+
+struct Parser<'a> {
+    lines: std::iter::Peekable<std::iter::Enumerate<std::str::Lines<'a>>>,
+    line_no: usize,
+}
+
+fn err<T>(line: usize, message: impl Into<String>) -> Result<T> {
+    Err(Error::Parse {
+        line,
+        message: message.into(),
+    })
+}
+
+impl<'a> Parser<'a> {
+    fn new(text: &'a str) -> Self {
+        Parser {
+            lines: text.lines().enumerate().peekable(),
+            line_no: 0,
+        }
+    }
+
+    /// Next non-empty line, trimmed; `None` at end of input.
+    fn next_line(&mut self) -> Option<&'a str> {
+        for (i, l) in self.lines.by_ref() {
+            let t = l.trim();
+            if !t.is_empty() {
+                self.line_no = i + 1;
+                return Some(t);
+            }
+        }
+        self.line_no += 1;
+        None
+    }
+
+    fn expect_line(&mut self, what: &str) -> Result<&'a str> {
+        match self.next_line() {
+            Some(l) => Ok(l),
+            None => err(
+                self.line_no,
+                format!("unexpected end of file; expected {what}"),
+            ),
+        }
+    }
+
+    fn parse_f32(&self, tok: &str, what: &str) -> Result<f32> {
+        match tok.parse::<f32>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            _ => err(
+                self.line_no,
+                format!("expected a number for {what}, found '{tok}'"),
+            ),
+        }
+    }
+
+    fn parse(mut self) -> Result<Bvh> {
+        let first = self.expect_line("HIERARCHY")?;
+        if first != "HIERARCHY" {
+            return err(self.line_no, format!("expected HIERARCHY, found '{first}'"));
+        }
+        let mut joints: Vec<Joint> = Vec::new();
+        let mut channel_total = 0usize;
+        let line = self.expect_line("ROOT <name>")?;
+        let mut toks = line.split_whitespace();
+        if toks.next() != Some("ROOT") {
+            return err(
+                self.line_no,
+                format!("expected 'ROOT <name>', found '{line}'"),
+            );
+        }
+        let name = toks.collect::<Vec<_>>().join(" ");
+        if name.is_empty() {
+            return err(self.line_no, "expected a joint name after ROOT");
+        }
+        self.parse_joint_body(&mut joints, name, None, false, &mut channel_total)?;
+        let line = self.expect_line("MOTION")?;
+        if line != "MOTION" {
+            return err(
+                self.line_no,
+                format!("expected MOTION after the hierarchy, found '{line}'"),
+            );
+        }
+        let line = self.expect_line("'Frames: <count>'")?;
+        let frames = match line
+            .strip_prefix("Frames:")
+            .map(str::trim)
+            .map(str::parse::<usize>)
+        {
+            Some(Ok(n)) => n,
+            _ => {
+                return err(
+                    self.line_no,
+                    format!("expected 'Frames: <count>', found '{line}'"),
+                )
+            }
+        };
+        let line = self.expect_line("'Frame Time: <seconds>'")?;
+        let frame_time = match line
+            .strip_prefix("Frame Time:")
+            .map(str::trim)
+            .map(str::parse::<f64>)
+        {
+            Some(Ok(t)) if t > 0.0 && t.is_finite() => t,
+            _ => {
+                return err(
+                    self.line_no,
+                    format!("expected 'Frame Time: <positive seconds>', found '{line}'"),
+                )
+            }
+        };
+        let mut motion = Vec::with_capacity(frames * channel_total);
+        for f in 0..frames {
+            let line = match self.next_line() {
+                Some(l) => l,
+                None => {
+                    return err(
+                        self.line_no,
+                        format!("file ends after {f} frames; the header says {frames}"),
+                    )
+                }
+            };
+            let before = motion.len();
+            for tok in line.split_whitespace() {
+                let v = self.parse_f32(tok, "a channel value")?;
+                motion.push(v);
+            }
+            let n = motion.len() - before;
+            if n != channel_total {
+                return err(
+                    self.line_no,
+                    format!("frame {f} has {n} values; expected {channel_total} (one per channel)"),
+                );
+            }
+        }
+        if let Some(extra) = self.next_line() {
+            let preview: String = extra.chars().take(40).collect();
+            return err(
+                self.line_no,
+                format!(
+                    "unexpected data after the {frames} frames the header announces: '{preview}'"
+                ),
+            );
+        }
+        Ok(Bvh {
+            joints,
+            frame_time,
+            motion,
+        })
+    }
+
+    fn parse_joint_body(
+        &mut self,
+        joints: &mut Vec<Joint>,
+        name: String,
+        parent: Option<usize>,
+        end_site: bool,
+        channel_total: &mut usize,
+    ) -> Result<()> {
+        let line = self.expect_line("'{'")?;
+        if line != "{" {
+            return err(
+                self.line_no,
+                format!("expected '{{' to open joint '{name}', found '{line}'"),
+            );
+        }
+        let line = self.expect_line("OFFSET x y z")?;
+        let toks: Vec<&str> = line.split_whitespace().collect();
+        if toks.len() != 4 || toks[0] != "OFFSET" {
+            return err(
+                self.line_no,
+                format!("expected 'OFFSET x y z' for '{name}', found '{line}'"),
+            );
+        }
+        let offset = [
+            self.parse_f32(toks[1], "OFFSET x")?,
+            self.parse_f32(toks[2], "OFFSET y")?,
+            self.parse_f32(toks[3], "OFFSET z")?,
+        ];
+        let index = joints.len();
+        joints.push(Joint {
+            name: name.clone(),
+            parent,
+            offset,
+            channels: Vec::new(),
+            channel_start: *channel_total,
+            end_site,
+        });
+        if end_site {
+            let line = self.expect_line("'}'")?;
+            if line != "}" {
+                return err(
+                    self.line_no,
+                    format!("expected '}}' to close End Site of '{name}', found '{line}'"),
+                );
+            }
+            return Ok(());
+        }
+        let line = self.expect_line("CHANNELS")?;
+        let toks: Vec<&str> = line.split_whitespace().collect();
+        if toks.first() != Some(&"CHANNELS") || toks.len() < 2 {
+            return err(
+                self.line_no,
+                format!("expected 'CHANNELS <n> ...' for '{name}', found '{line}'"),
+            );
+        }
+        let n: usize = match toks[1].parse() {
+            Ok(n) => n,
+            Err(_) => {
+                return err(
+                    self.line_no,
+                    format!("expected a channel count, found '{}'", toks[1]),
+                )
+            }
+        };
+        if toks.len() != n + 2 {
+            return err(
+                self.line_no,
+                format!("CHANNELS says {n} channels but lists {}", toks.len() - 2),
+            );
+        }
+        let mut channels = Vec::with_capacity(n);
+        for t in &toks[2..] {
+            match Channel::parse(t) {
+                Some(c) => channels.push(c),
+                None => {
+                    return err(
+                        self.line_no,
+                        format!("unknown channel '{t}'; expected X/Y/Z position or rotation"),
+                    )
+                }
+            }
+        }
+        *channel_total += n;
+        joints[index].channels = channels;
+        loop {
+            let line = self.expect_line("JOINT, End Site or '}'")?;
+            if line == "}" {
+                return Ok(());
+            }
+            if let Some(rest) = line.strip_prefix("JOINT") {
+                let child = rest.trim().to_string();
+                if child.is_empty() {
+                    return err(self.line_no, "expected a joint name after JOINT");
+                }
+                self.parse_joint_body(joints, child, Some(index), false, channel_total)?;
+            } else if line.starts_with("End Site") || line == "End" {
+                let nub = format!("{name}_Nub");
+                self.parse_joint_body(joints, nub, Some(index), true, channel_total)?;
+            } else {
+                return err(
+                    self.line_no,
+                    format!("expected JOINT, End Site or '}}' inside '{name}', found '{line}'"),
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,33 @@
+// A tiny static file server for web/ on 127.0.0.1 (no dependencies).
+// Usage: node scripts/serve.mjs [dir] [port]
+import http from 'node:http';
+import fs from 'node:fs';
+import path from 'node:path';
+
+const TYPES = {
+  '.html': 'text/html; charset=utf-8', '.js': 'text/javascript', '.mjs': 'text/javascript',
+  '.wasm': 'application/wasm', '.json': 'application/json', '.onnx': 'application/octet-stream',
+  '.css': 'text/css', '.png': 'image/png', '.bvh': 'text/plain', '.ts': 'text/plain',
+};
+
+export function serve(dir, port = 0, host = '127.0.0.1') {
+  const root = path.resolve(dir);
+  const server = http.createServer((req, res) => {
+    const url = new URL(req.url, 'http://x');
+    let p = path.normalize(path.join(root, decodeURIComponent(url.pathname)));
+    if (!p.startsWith(root)) { res.writeHead(403); res.end(); return; }
+    if (fs.existsSync(p) && fs.statSync(p).isDirectory()) p = path.join(p, 'index.html');
+    fs.readFile(p, (err, data) => {
+      if (err) { res.writeHead(404); res.end('not found'); return; }
+      res.writeHead(200, { 'Content-Type': TYPES[path.extname(p)] || 'application/octet-stream', 'Cache-Control': 'no-cache' });
+      res.end(data);
+    });
+  });
+  return new Promise((resolve) => server.listen(port, host, () => resolve(server)));
+}
+
+if (import.meta.url === `file://${process.argv[1]}`) {
+  const dir = process.argv[2] || '.';
+  const port = Number(process.argv[3] || 8080);
+  serve(dir, port).then((s) => console.log(`deeprep demo: http://127.0.0.1:${s.address().port}/web/ (serving ${path.resolve(dir)}; Ctrl-C stops)`));
+}

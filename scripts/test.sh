@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Runs every test: native Rust, Python parity (onnxruntime), wasm in headless
+# Chromium (wasm-bindgen-test), and the page in Chromium (Playwright).
+# Assumes scripts/setup.sh has run (the README's test command runs both).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+export PATH="$HOME/.cargo/bin:$PATH"
+t_start=$(date +%s)
+section() { printf '\n==== %s (t+%ss)\n' "$*" "$(( $(date +%s) - t_start ))"; }
+
+section "native: cargo test"
+cargo test --workspace
+
+section "parity: onnxruntime against committed fixtures"
+.venv/bin/python -m pytest -q tests/parity
+
+section "wasm: build the package"
+bash scripts/build-wasm.sh
+
+section "wasm: wasm-bindgen-test in headless Chromium"
+(
+  source scripts/wasm-env.sh
+  export WASM_BINDGEN_USE_BROWSER=1
+  export WASM_BINDGEN_TEST_TIMEOUT=300
+  cd tests/wasm  # wasm-bindgen-test-runner reads webdriver.json from the working directory
+  cargo test -p deeprep --release "${WASM_CARGO_FLAGS[@]}" --test wasm_browser
+)
+
+section "web: the page in headless Chromium (Playwright)"
+node --test tests/web/
+
+section "all tests passed"

@@ -1,0 +1,13 @@
+# Sourced by the wasm scripts: selects Debian's rustc-web toolchain (1.96,
+# with its std source for -Zbuild-std, since `rustup target add` cannot
+# download here) for every tool that calls cargo or rustc (wasm-pack too).
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+SHIM="$ROOT/target/wasm-toolchain/bin"
+mkdir -p "$SHIM"
+for t in cargo rustc rustdoc; do ln -sf "/usr/bin/$t" "$SHIM/$t"; done
+export PATH="$SHIM:$HOME/.cargo/bin:$PATH"
+export RUSTC=/usr/bin/rustc RUSTDOC=/usr/bin/rustdoc RUSTC_BOOTSTRAP=1
+# One flag set for every wasm build (library, tests, wasm-pack), so the
+# dependency graph is compiled once per profile.
+WASM_CARGO_FLAGS=(--target wasm32-unknown-unknown -Zbuild-std=std,panic_abort)
+export CHROMEDRIVER=/usr/bin/chromedriver

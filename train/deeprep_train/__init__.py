@@ -1,0 +1,1 @@
+"""PyTorch side of deeprep: networks, training and ONNX export."""
