@@ -1,0 +1,209 @@
+//! BVH reader/writer and forward kinematics.
+
+use deeprep::skeleton::{fk, Bvh, Channel};
+use deeprep::Error;
+use std::path::PathBuf;
+
+/// A small skeleton the project makes itself: a 6-channel root, two
+/// branches, mixed channel orders, a joint with position channels, and End
+/// Sites. Values are deterministic functions of (frame, channel).
+fn fixture(frames: usize) -> String {
+    let mut s = String::from(
+        "HIERARCHY\nROOT hips\n{\n  OFFSET 0 0 0\n  CHANNELS 6 Xposition Yposition Zposition Zrotation Yrotation Xrotation\n  JOINT spine\n  {\n    OFFSET 0 10 0\n    CHANNELS 3 Zrotation Xrotation Yrotation\n    JOINT head\n    {\n      OFFSET 0 5.5 1.25\n      CHANNELS 3 Xrotation Yrotation Zrotation\n      End Site\n      {\n        OFFSET 0 3 0\n      }\n    }\n  }\n  JOINT leg\n  {\n    OFFSET -2 -1 0\n    CHANNELS 6 Xposition Yposition Zposition Yrotation Xrotation Zrotation\n    End Site\n    {\n      OFFSET 0 -9 0\n    }\n  }\n}\nMOTION\n",
+    );
+    s.push_str(&format!("Frames: {frames}\nFrame Time: 0.0166667\n"));
+    for f in 0..frames {
+        let vals: Vec<String> = (0..18)
+            .map(|c| {
+                format!(
+                    "{}",
+                    ((f * 31 + c * 17) % 360) as f32 * 0.5 - 90.0 + 0.125 * c as f32
+                )
+            })
+            .collect();
+        s.push_str(&vals.join(" "));
+        s.push('\n');
+    }
+    s
+}
+
+fn shared() -> Option<PathBuf> {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/cmu-bvh");
+    if p.is_dir() {
+        Some(p)
+    } else {
+        eprintln!("SKIP: ../shared/data/cmu-bvh is absent; shared-data checks skipped");
+        None
+    }
+}
+
+#[test]
+fn parses_the_fixture() {
+    let b = Bvh::parse(&fixture(4)).unwrap();
+    let names: Vec<&str> = b.joints.iter().map(|j| j.name.as_str()).collect();
+    assert_eq!(
+        names,
+        ["hips", "spine", "head", "head_Nub", "leg", "leg_Nub"]
+    );
+    assert_eq!(b.joints[4].parent, Some(0));
+    assert_eq!(b.joints[3].parent, Some(2));
+    assert!(b.joints[3].end_site && b.joints[3].channels.is_empty());
+    assert_eq!(b.channel_count(), 18);
+    assert_eq!(b.frame_count(), 4);
+    assert_eq!(b.joints[4].channels[3], Channel::Yrotation);
+    assert_eq!(b.joints[4].channel_start, 12);
+    assert!((b.fps() - 60.0).abs() < 1e-3);
+    assert_eq!(b.joints[2].offset, [0.0, 5.5, 1.25]);
+}
+
+#[test]
+fn write_then_read_is_exact() {
+    let b = Bvh::parse(&fixture(50)).unwrap();
+    let again = Bvh::parse(&b.write()).unwrap();
+    assert_eq!(b, again);
+    // And a second write is byte-identical.
+    assert_eq!(b.write(), again.write());
+}
+
+#[test]
+fn shared_clips_round_trip() {
+    let Some(dir) = shared() else { return };
+    for f in ["standard.bvh", "salsa/01.bvh", "martial/03.bvh"] {
+        let text = std::fs::read_to_string(dir.join(f)).unwrap();
+        let b = Bvh::parse(&text).unwrap();
+        assert_eq!(
+            b.joints.len(),
+            57,
+            "{f}: the thesis skeleton has 57 joints counting End Sites"
+        );
+        let again = Bvh::parse(&b.write()).unwrap();
+        assert_eq!(b, again, "{f}");
+    }
+}
+
+fn parse_err(text: &str) -> (usize, String) {
+    match Bvh::parse(text) {
+        Err(Error::Parse { line, message }) => (line, message),
+        other => panic!("expected a parse error, got {other:?}"),
+    }
+}
+
+#[test]
+fn malformed_files_name_the_line_and_what_was_expected() {
+    let good = fixture(3);
+    let lines: Vec<&str> = good.lines().collect();
+    let with = |i: usize, repl: &str| {
+        let mut l = lines.clone();
+        l[i] = repl;
+        l.join("\n")
+    };
+    let (line, msg) = parse_err(&with(0, "HIERARCHIE"));
+    assert_eq!(line, 1);
+    assert!(msg.contains("expected HIERARCHY"), "{msg}");
+    let (line, msg) = parse_err(&with(3, "  OFFSET 0 zero 0"));
+    assert_eq!(line, 4);
+    assert!(msg.contains("number") && msg.contains("zero"), "{msg}");
+    let (line, msg) = parse_err(&with(
+        4,
+        "  CHANNELS 6 Xposition Yposition Zposition Zrotation Yrotation Wrotation",
+    ));
+    assert_eq!(line, 5);
+    assert!(msg.contains("unknown channel 'Wrotation'"), "{msg}");
+    let (line, msg) = parse_err(&with(
+        4,
+        "  CHANNELS 5 Xposition Yposition Zposition Zrotation Yrotation Xrotation",
+    ));
+    assert_eq!(line, 5);
+    assert!(msg.contains("says 5 channels"), "{msg}");
+    let n = lines.len();
+    let (line, msg) = parse_err(&with(n - 2, "1 2 3"));
+    assert_eq!(line, n - 1);
+    assert!(msg.contains("has 3 values; expected 18"), "{msg}");
+    let (line, msg) = parse_err(&with(
+        n - 1,
+        "1 2 3 nan 5 6 7 8 9 10 11 12 13 14 15 16 17 18",
+    ));
+    assert_eq!(line, n);
+    assert!(msg.contains("'nan'"), "{msg}");
+    let truncated: String = lines[..n - 1].join("\n");
+    let (_, msg) = parse_err(&truncated);
+    assert!(
+        msg.contains("ends after 2 frames; the header says 3"),
+        "{msg}"
+    );
+    let (_, msg) = parse_err(&format!("{good}1 2 3\n"));
+    assert!(msg.contains("unexpected data after"), "{msg}");
+    let (line, msg) = parse_err(&with(6, "    OFFSET 0 10 0"));
+    assert_eq!(line, 7);
+    assert!(msg.contains("expected '{'"), "{msg}");
+}
+
+#[test]
+fn every_truncation_is_an_error_never_a_panic() {
+    let good = fixture(3);
+    for cut in 0..good.len() {
+        if !good.is_char_boundary(cut) {
+            continue;
+        }
+        let r = Bvh::parse(&good[..cut]);
+        // A cut inside the last number can still parse; anything else errs.
+        if let Ok(b) = r {
+            assert_eq!(b.frame_count(), 3, "cut at {cut}");
+        }
+    }
+    assert!(Bvh::parse("").is_err());
+    assert!(Bvh::parse_bytes(&[0xff, 0xfe, 0x00]).is_err());
+}
+
+#[test]
+fn a_100k_frame_file_parses_in_one_pass() {
+    let text = fixture(100_000);
+    let b = Bvh::parse(&text).unwrap();
+    assert_eq!(b.frame_count(), 100_000);
+    assert_eq!(b.motion.len(), 1_800_000);
+}
+
+#[test]
+fn fk_matches_hand_computed_positions() {
+    let text = "HIERARCHY\nROOT r\n{\n OFFSET 0 0 0\n CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n JOINT c\n {\n  OFFSET 1 0 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n  End Site\n  {\n   OFFSET 0 2 0\n  }\n }\n}\nMOTION\nFrames: 2\nFrame Time: 0.1\n1 2 3 90 0 0 0 0 0\n0 0 0 0 0 0 0 90 0\n";
+    let b = Bvh::parse(text).unwrap();
+    let p = fk::positions(&b, 0, 2).unwrap();
+    let close = |a: &[f32], e: [f32; 3]| a.iter().zip(e).all(|(x, y)| (x - y).abs() < 1e-5);
+    // Frame 0: root at (1,2,3), turned 90° about Z: +X becomes +Y.
+    assert!(close(&p[0..3], [1.0, 2.0, 3.0]));
+    assert!(close(&p[3..6], [1.0, 3.0, 3.0]), "{:?}", &p[3..6]);
+    assert!(close(&p[6..9], [-1.0, 3.0, 3.0]), "{:?}", &p[6..9]);
+    // Frame 1: the child turns 90° about X: its +Y end goes to +Z.
+    assert!(close(&p[9..12], [0.0, 0.0, 0.0]));
+    assert!(close(&p[12..15], [1.0, 0.0, 0.0]));
+    assert!(close(&p[15..18], [1.0, 0.0, 2.0]), "{:?}", &p[15..18]);
+    // Channel order matters: Zrotation then Xrotation is Rz·Rx.
+    assert!(fk::positions(&b, 1, 3).is_err());
+}
+
+#[test]
+fn fk_keeps_bone_lengths() {
+    let b = Bvh::parse(&fixture(20)).unwrap();
+    let p = fk::positions(&b, 0, 20).unwrap();
+    let nj = b.joints.len();
+    for f in 0..20 {
+        for (i, j) in b.joints.iter().enumerate() {
+            // Joints with position channels move away from their offset.
+            if j.channels.contains(&Channel::Xposition) {
+                continue;
+            }
+            if let Some(par) = j.parent {
+                let a = &p[(f * nj + i) * 3..(f * nj + i) * 3 + 3];
+                let c = &p[(f * nj + par) * 3..(f * nj + par) * 3 + 3];
+                let len =
+                    ((a[0] - c[0]).powi(2) + (a[1] - c[1]).powi(2) + (a[2] - c[2]).powi(2)).sqrt();
+                let off = j.offset.iter().map(|x| x * x).sum::<f32>().sqrt();
+                assert!(
+                    (len - off).abs() < 1e-4,
+                    "frame {f} joint {}: {len} vs {off}",
+                    j.name
+                );
+            }
+        }
+    }
+}
