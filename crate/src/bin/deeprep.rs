@@ -67,6 +67,32 @@ fn info(path: &str) -> Result<(), String> {
             }
         );
     }
+    match deeprep::rcfk::RcSkeleton::thesis(&b) {
+        Ok(sk) => {
+            let v = sk.violations(&b).map_err(|e| e.to_string())?;
+            let _ = writeln!(
+                o,
+                "RC-range violations (Table D.1; frames outside / max / mean excess in degrees):"
+            );
+            for x in v.iter().filter(|x| x.frames > 0) {
+                let _ = writeln!(
+                    o,
+                    "  {:<10} {:>6} frames ({:5.1}%)  max {:7.2}  mean {:6.3}",
+                    x.joint,
+                    x.frames,
+                    100.0 * x.frames as f64 / b.frame_count().max(1) as f64,
+                    x.max_deg,
+                    x.mean_deg
+                );
+            }
+            if v.iter().all(|x| x.frames == 0) {
+                let _ = writeln!(o, "  none");
+            }
+        }
+        Err(e) => {
+            let _ = writeln!(o, "RC-range violations: not computed ({e})");
+        }
+    }
     emit(&o);
     Ok(())
 }
