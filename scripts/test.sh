@@ -22,7 +22,7 @@ section "wasm: wasm-bindgen-test in headless Chromium"
   source scripts/wasm-env.sh
   export WASM_BINDGEN_USE_BROWSER=1
   export WASM_BINDGEN_TEST_TIMEOUT=300
-  cd tests/wasm  # wasm-bindgen-test-runner reads webdriver.json from the working directory
+  # wasm-bindgen-test-runner reads crate/webdriver.json (cargo runs it in the package root)
   cargo test -p deeprep --release "${WASM_CARGO_FLAGS[@]}" --test wasm_browser
 )
 

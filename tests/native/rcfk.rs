@@ -181,3 +181,41 @@ fn outputs_stay_in_range_and_bad_input_is_an_error() {
     let e = RcSkeleton::new(&bvh, &parse_table(r#"{"joints": []}"#).unwrap()).unwrap_err();
     assert!(e.to_string().contains("not in the range table"), "{e}");
 }
+
+#[test]
+fn rust_and_pytorch_rcfk_agree_to_1e_4() {
+    // Written by train/make_rcfk_fixture.py from the PyTorch layer
+    // (train/deeprep_train/rcfk.py) on the thesis skeleton.
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../tests/fixtures/rcfk_torch.json");
+    let f: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap();
+    let floats = |k: &str| -> Vec<f32> {
+        f[k].as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap() as f32)
+            .collect()
+    };
+    let bvh = Bvh::parse(f["skeleton_bvh"].as_str().unwrap()).unwrap();
+    let sk = RcSkeleton::thesis(&bvh).unwrap();
+    let dim = f["output_dim"].as_u64().unwrap() as usize;
+    assert_eq!(dim, sk.output_dim());
+    let (raw, root, expected) = (floats("raw"), floats("root_pos"), floats("positions_torch"));
+    let frames = f["frames"].as_u64().unwrap() as usize;
+    let nj = bvh.joints.len();
+    let mut worst = 0.0f32;
+    for t in 0..frames {
+        let pos = sk
+            .forward(
+                &raw[t * dim..(t + 1) * dim],
+                [root[3 * t], root[3 * t + 1], root[3 * t + 2]],
+            )
+            .unwrap();
+        for (a, b) in pos.iter().zip(&expected[t * nj * 3..(t + 1) * nj * 3]) {
+            worst = worst.max((a - b).abs());
+        }
+    }
+    assert!(
+        worst <= 1e-4,
+        "Rust vs PyTorch RC-FK max abs diff {worst} (BVH units)"
+    );
+}
