@@ -65,6 +65,7 @@ test('bad input to the JS API raises an Error with a message', async () => {
       () => m.convertRotations('6d', 'quat', new Float32Array(6)),
       () => m.convertRotations('quaternion', 'quat', new Float32Array(4)),
       () => new m.OnnxModel(new Uint8Array([1, 2, 3])),
+      () => m.BvhClip.parse('HIERARCHY\nROOT a\n{\n OFFSET 0 x 0\n'),
     ]) {
       try { f(); out.push('no error'); } catch (e) { out.push(e instanceof Error ? e.message : `non-Error: ${e}`); }
     }
@@ -74,4 +75,33 @@ test('bad input to the JS API raises an Error with a message', async () => {
   assert.match(msgs[1], /degenerate/);
   assert.match(msgs[2], /unknown rotation representation/);
   assert.match(msgs[3], /model/);
+  assert.match(msgs[4], /^line 4: expected a number for OFFSET y, found 'x'/);
+});
+
+test('BVH from JS: parse, FK positions, write, parse again', async () => {
+  const page = await browser.context.newPage();
+  await page.goto(`${server.url}/web/index.html`);
+  await page.waitForSelector('body[data-ready="1"]', { timeout: 60_000 });
+  const r = await page.evaluate(async () => {
+    const m = await import('./pkg/deeprep.js');
+    const text = 'HIERARCHY\nROOT r\n{\n OFFSET 0 0 0\n CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n'
+      + ' JOINT c\n {\n  OFFSET 1 0 0\n  CHANNELS 3 Zrotation Xrotation Yrotation\n  End Site\n  {\n   OFFSET 0 2 0\n  }\n }\n}\n'
+      + 'MOTION\nFrames: 2\nFrame Time: 0.1\n1 2 3 90 0 0 0 0 0\n0 0 0 0 0 0 0 90 0\n';
+    const clip = m.BvhClip.fromBytes(new TextEncoder().encode(text));
+    const again = m.BvhClip.parse(clip.toBvh());
+    return {
+      names: clip.jointNames, parents: Array.from(clip.parents), frames: clip.frameCount,
+      fk: Array.from(clip.fkPositions(0, 2)), fkAgain: Array.from(again.fkPositions(0, 2)),
+      isF32: clip.fkPositions(0, 1) instanceof Float32Array,
+      rangeError: (() => { try { clip.fkPositions(1, 3); return ''; } catch (e) { return e.message; } })(),
+    };
+  });
+  assert.deepEqual(r.names, ['r', 'c', 'c_Nub']);
+  assert.deepEqual(r.parents, [-1, 0, 1]);
+  assert.equal(r.frames, 2);
+  assert.ok(r.isF32);
+  const expect = [1, 2, 3, 1, 3, 3, -1, 3, 3, 0, 0, 0, 1, 0, 0, 1, 0, 2];
+  r.fk.forEach((v, i) => assert.ok(Math.abs(v - expect[i]) < 1e-5, `fk[${i}] = ${v}, expected ${expect[i]}`));
+  assert.deepEqual(r.fkAgain, r.fk);
+  assert.match(r.rangeError, /outside the clip's 2 frames/);
 });
