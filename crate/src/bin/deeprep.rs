@@ -17,7 +17,12 @@ fn emit(s: &str) {
 
 const USAGE: &str = "usage:
   deeprep bvh info FILE
-  deeprep bvh fk FILE --frame N";
+  deeprep bvh fk FILE --frame N
+  deeprep bvh export FILE --out PREFIX
+      writes PREFIX.json (skeleton, frame rate, layouts), PREFIX.positions.f32
+      (frames x joints x 3 global positions) and PREFIX.rc.f32 (frames x (3 + 6 + 3K):
+      root position, root 6D, range-constrained Euler angles in radians, clamped to
+      Table D.1), little-endian f32; for the training pipeline";
 
 fn load(path: &str) -> Result<Bvh, String> {
     let bytes = std::fs::read(path).map_err(|e| format!("{path}: {e}"))?;
@@ -115,6 +120,50 @@ fn fk_cmd(path: &str, frame: usize) -> Result<(), String> {
     Ok(())
 }
 
+fn write_f32(path: &str, v: &[f32]) -> Result<(), String> {
+    let mut bytes = Vec::with_capacity(v.len() * 4);
+    for x in v {
+        bytes.extend_from_slice(&x.to_le_bytes());
+    }
+    std::fs::write(path, bytes).map_err(|e| format!("{path}: {e}"))
+}
+
+fn export(path: &str, prefix: &str) -> Result<(), String> {
+    let b = load(path)?;
+    let sk = deeprep::rcfk::RcSkeleton::thesis(&b).map_err(|e| e.to_string())?;
+    let frames = b.frame_count();
+    let positions = fk::positions(&b, 0, frames).map_err(|e| e.to_string())?;
+    let width = 3 + sk.output_dim();
+    let mut rc = Vec::with_capacity(frames * width);
+    let mut excess_sum = vec![0.0f64; sk.rotating.len()];
+    for f in 0..frames {
+        let r = sk.inverse(&b, f).map_err(|e| e.to_string())?;
+        rc.extend(r.root_pos.iter().map(|v| *v as f32));
+        rc.extend(r.root_6d.iter().map(|v| *v as f32));
+        for (k, a) in r.angles.iter().enumerate() {
+            rc.extend(a.iter().map(|v| *v as f32));
+            excess_sum[k] += r.excess[k].iter().sum::<f64>();
+        }
+    }
+    write_f32(&format!("{prefix}.positions.f32"), &positions)?;
+    write_f32(&format!("{prefix}.rc.f32"), &rc)?;
+    let meta = serde_json::json!({
+        "source": path,
+        "frames": frames,
+        "frame_time": b.frame_time,
+        "joints": b.joints.iter().map(|j| &j.name).collect::<Vec<_>>(),
+        "parents": b.joints.iter().map(|j| j.parent.map_or(-1, |p| p as i64)).collect::<Vec<_>>(),
+        "offsets": b.joints.iter().map(|j| j.offset).collect::<Vec<_>>(),
+        "rotating": sk.rotating.iter().map(|&j| &b.joints[j].name).collect::<Vec<_>>(),
+        "rc_width": width,
+        "rc_layout": "root position (3), root 6D (6), then [ux, uy, uz] radians per rotating joint",
+        "mean_excess_deg_per_frame": excess_sum.iter().map(|e| e.to_degrees() / frames.max(1) as f64).collect::<Vec<_>>(),
+    });
+    let mp = format!("{prefix}.json");
+    std::fs::write(&mp, serde_json::to_string_pretty(&meta).unwrap_or_default()).map_err(|e| format!("{mp}: {e}"))?;
+    Ok(())
+}
+
 fn run(args: &[String]) -> Result<(), String> {
     let a: Vec<&str> = args.iter().map(String::as_str).collect();
     match a.as_slice() {
@@ -125,6 +174,7 @@ fn run(args: &[String]) -> Result<(), String> {
                 .map_err(|_| format!("--frame expects a frame index, got '{n}'"))?;
             fk_cmd(file, frame)
         }
+        ["bvh", "export", file, "--out", prefix] => export(file, prefix),
         _ => Err(USAGE.to_string()),
     }
 }

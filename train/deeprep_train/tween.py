@@ -1,0 +1,168 @@
+"""Generative Tweening networks (thesis Sec. 5.2), at reduced width for CPU training.
+
+Layouts are [batch, channels, frames]. Positions are divided by SCALE before
+entering any network. See train/README.md for every deviation from the thesis.
+"""
+import math
+
+import torch
+import torch.nn as nn
+import torch.nn.functional as F
+
+SCALE = 100.0          # BVH units per network unit
+DT_NORM = 60.0         # distance transform in seconds (frames / 60) ...
+DT_CLIP = 600.0        # ... clipped at 10 s
+GAN_TARGET = 0.2361    # eq. 5.8
+
+
+class ModResConv(nn.Module):
+    """The modified residual convolution of eq. 5.6:
+    x' = conv(x); residual = PReLU(affine(x')) + sqrt(1-s) x; y = sqrt(s) residual + sqrt(1-s) x."""
+
+    def __init__(self, ch: int, sigma: float, k: int = 3):
+        super().__init__()
+        self.conv = nn.Conv1d(ch, ch, k, padding=k // 2)
+        self.scale = nn.Parameter(torch.ones(1, ch, 1))
+        self.bias = nn.Parameter(torch.zeros(1, ch, 1))
+        self.act = nn.PReLU(ch)
+        self.s = sigma
+        self.last = None  # x' kept for the batch regularization loss (eq. 5.9)
+
+    def forward(self, x):
+        xp = self.conv(x)
+        self.last = xp
+        res = self.act(xp * self.scale + self.bias) + math.sqrt(1 - self.s) * x
+        return math.sqrt(self.s) * res + math.sqrt(1 - self.s) * x
+
+
+def down(cin, cout):
+    return nn.Sequential(nn.Conv1d(cin, cout, 4, stride=2, padding=1), nn.PReLU(cout))
+
+
+def up(cin, cout):
+    return nn.Sequential(nn.ConvTranspose1d(cin, cout, 4, stride=2, padding=1), nn.PReLU(cout))
+
+
+class DnaEncoder(nn.Module):
+    """Shared MLP over representative frames, average pooling, a linear layer (Sec. 5.2.5)."""
+
+    def __init__(self, pose_dim: int, hidden: int, out: int):
+        super().__init__()
+        self.mlp = nn.Sequential(nn.Linear(pose_dim, hidden), nn.PReLU(), nn.Linear(hidden, hidden), nn.PReLU())
+        self.lin = nn.Linear(hidden, out)
+
+    def forward(self, frames):  # [B, K, pose_dim]
+        return self.lin(self.mlp(frames).mean(dim=1))
+
+
+class Generator(nn.Module):
+    """Dense keyframe input [B, 2P, N] + DNA frames [B, K, P] -> raw RC-FK values [B, out, N].
+    Encoder: an input conv and 6 stride-2 convs with modified residual convs;
+    decoder: 6 transposed convs with modified residual convs, then an output conv."""
+
+    def __init__(self, pose_dim: int, out_dim: int, widths=(96, 128, 160, 192, 224, 256), dna_dim: int = 64):
+        super().__init__()
+        w0 = widths[0]
+        self.inp = nn.Sequential(nn.Conv1d(2 * pose_dim, w0, 3, padding=1), nn.PReLU(w0))
+        enc, cin = [], w0
+        sig_e = [0.5] * 6
+        for i, w in enumerate(widths):
+            enc += [down(cin, w), ModResConv(w, sig_e[i])]
+            cin = w
+        self.enc = nn.Sequential(*enc)
+        self.dna = DnaEncoder(pose_dim, 128, dna_dim)
+        dec = []
+        cin = widths[-1] + dna_dim
+        outs = list(widths[::-1][1:]) + [w0]
+        sig_d = [0.5, 0.45, 0.4, 0.3, 0.2, 0.1]  # decreasing residual ratio towards the output
+        for i, w in enumerate(outs):
+            dec += [up(cin, w), ModResConv(w, sig_d[i])]
+            cin = w
+        self.dec = nn.Sequential(*dec)
+        self.out = nn.Conv1d(cin, out_dim, 3, padding=1)
+        nn.init.zeros_(self.out.bias)
+        self.out.weight.data *= 0.1
+
+    def forward(self, dense, dna_frames):
+        z = self.enc(self.inp(dense))
+        w = self.dna(dna_frames)
+        z = torch.cat([z, w.unsqueeze(-1).expand(-1, -1, z.shape[-1])], dim=1)
+        return self.out(self.dec(z))
+
+    def resconvs(self):
+        return [m for m in self.modules() if isinstance(m, ModResConv)]
+
+
+class Discriminator(nn.Module):
+    """Local motion [B, P, N] -> N/64 scores: 6 downsampling convs and 1 at the same resolution."""
+
+    def __init__(self, pose_dim: int, widths=(64, 96, 128, 128, 160, 160)):
+        super().__init__()
+        layers, cin = [], pose_dim
+        for w in widths:
+            layers += [nn.Conv1d(cin, w, 4, stride=2, padding=1), nn.LeakyReLU(0.2)]
+            cin = w
+        self.body = nn.Sequential(*layers)
+        self.head = nn.Conv1d(cin, 1, 3, padding=1)
+
+    def forward(self, x):
+        return self.head(self.body(x)).squeeze(1)
+
+
+class PathPredictor(nn.Module):
+    """Local joint positions [B, P, N] -> root velocity [B, 3, N] (Sec. 5.2.4), fully convolutional."""
+
+    def __init__(self, pose_dim: int, width: int = 128, layers: int = 6):
+        super().__init__()
+        mods, cin = [], pose_dim
+        for i in range(layers):
+            mods += [nn.Conv1d(cin, width, 5, padding=2 * (1 + i % 3), dilation=1 + i % 3), nn.PReLU(width)]
+            cin = width
+        self.body = nn.Sequential(*mods)
+        self.head = nn.Conv1d(cin, 3, 3, padding=1)
+
+    def forward(self, local):
+        return self.head(self.body(local))
+
+
+def path_loss(vel_pred, vel_true):
+    """Eq. 5.5: mean displacement error over n-frame intervals, n = 1, 2, 4, ..., 128. [B, 3, N]."""
+    cp = torch.cumsum(vel_pred, dim=-1)
+    ct = torch.cumsum(vel_true, dim=-1)
+    total, count = 0.0, 0
+    for k in range(8):
+        n = 2 ** k
+        if n >= vel_pred.shape[-1]:
+            break
+        dp = cp[..., n:] - cp[..., :-n]
+        dt = ct[..., n:] - ct[..., :-n]
+        total = total + (dp - dt).norm(dim=1).mean()
+        count += 1
+    return total / count
+
+
+def dense_input(pose, mask, n_frames):
+    """The dense keyframe format (Fig. 5.3), with a per-coordinate mask for partial keys.
+    pose: [B, N, P] values (anything where mask is 0), mask: [B, N, P] bool.
+    Each frame gets, per coordinate, the value of the nearest frame where that
+    coordinate is specified (ties go to the earlier frame) and the distance to
+    it (frames / DT_NORM, clipped at DT_CLIP). Unspecified coordinates: 0 and DT_CLIP.
+    Returns [B, 2P, N]. Mirrors crate/src/motion (dense_input)."""
+    B, N, P = pose.shape
+    idx = torch.arange(N).view(1, N, 1).expand(B, N, P)
+    big = 10 ** 9
+    # nearest specified frame at or before t, and at or after t
+    prev = torch.where(mask, idx, torch.full_like(idx, -big))
+    prev = torch.cummax(prev, dim=1).values
+    nxt = torch.where(mask, idx, torch.full_like(idx, big))
+    nxt = torch.flip(torch.cummin(torch.flip(nxt, [1]), dim=1).values, [1])
+    dprev = idx - prev
+    dnext = nxt - idx
+    use_prev = dprev <= dnext
+    src = torch.where(use_prev, prev, nxt).clamp(0, N - 1)
+    dist = torch.minimum(dprev, dnext).float().clamp(max=DT_CLIP)
+    val = torch.gather(pose, 1, src)
+    none = ~mask.any(dim=1, keepdim=True).expand(B, N, P)
+    val = torch.where(none, torch.zeros_like(val), val)
+    dist = torch.where(none, torch.full_like(dist, DT_CLIP), dist)
+    return torch.cat([val, dist / DT_NORM], dim=2).transpose(1, 2)

@@ -1,0 +1,269 @@
+"""Trains the global path predictor, then the local motion generator with its
+discriminator (thesis Sec. 5.2.4-5.2.7), on train/cache/motion60.npz (made by
+train/data_pipeline.py). Checkpoints go to train/cache/tween/*.pt; a JSON
+log of losses to train/cache/tween/log.jsonl.
+
+  train/.venv/bin/python train/train_tween.py --path-minutes 6 --gen-minutes 50
+
+See train/README.md for the deviations from the thesis.
+"""
+import argparse
+import json
+import math
+import os
+import sys
+import time
+
+import numpy as np
+import torch
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from deeprep_train.rcfk import RCFK  # noqa: E402
+from deeprep_train.rotation import sixd_to_matrix  # noqa: E402
+from deeprep_train.tween import (SCALE, GAN_TARGET, Discriminator, Generator, PathPredictor,  # noqa: E402
+                                 dense_input, path_loss)
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+OUT = os.path.join(ROOT, "train", "cache", "tween")
+W = {"recon": 100.0, "key": 300.0, "root": 50.0, "gan": 1.0, "br": 5.0, "dna1": 50.0, "dna2": 50.0}
+
+
+class Data:
+    def __init__(self, path, split):
+        d = np.load(path)
+        self.local = torch.from_numpy(d[f"{split}_local"])      # [F, J, 3]
+        self.root = torch.from_numpy(d[f"{split}_root"])        # [F, 3]
+        self.rc = torch.from_numpy(d[f"{split}_rc"])            # [F, 3 + 6 + 3K]
+        lens = d[f"{split}_seg_len"]
+        self.starts = np.concatenate([[0], np.cumsum(lens)[:-1]])
+        self.lens = lens
+        self.joints = list(d["joints"])
+        self.parents = [None if p < 0 else int(p) for p in d["parents"]]
+        self.offsets = d["offsets"].tolist()
+        rot = set(d["rotating"])
+        self.channel_joints = [i == 0 or n in rot for i, n in enumerate(self.joints)]
+
+    def window(self, n, rng):
+        ok = np.nonzero(self.lens >= n)[0]
+        s = rng.choice(ok, p=self.lens[ok] / self.lens[ok].sum())
+        a = self.starts[s] + rng.integers(0, self.lens[s] - n + 1)
+        return slice(int(a), int(a) + n)
+
+
+def lam(local, r6):
+    """Λ: local pose without the root rotation. local [..., J, 3], r6 [..., 6]."""
+    r = sixd_to_matrix(r6)
+    return local @ r  # rows: p^T R = (R^T p)^T
+
+
+def rep_frames(rc, k):
+    """Representative frames: largest joint-rotation change from the adjacent frames, spaced >= 30 frames."""
+    ang = rc[:, 9:]
+    change = torch.zeros(len(ang))
+    change[1:-1] = (ang[2:] - ang[:-2]).norm(dim=1)
+    order = torch.argsort(change, descending=True).tolist()
+    picked = []
+    for i in order:
+        if all(abs(i - j) >= 30 for j in picked):
+            picked.append(i)
+        if len(picked) == k:
+            break
+    return sorted(picked)
+
+
+def sample_keys(n, rng):
+    keys, t = [], int(rng.integers(0, 16))
+    while t < n:
+        keys.append(t)
+        t += int(rng.integers(8, 300))
+    if keys[-1] < n - 40 and rng.random() < 0.7:
+        keys.append(n - 1 - int(rng.integers(0, 16)))
+    return keys
+
+
+def make_batch(data, b, n, rng):
+    J = len(data.joints)
+    P = J * 3
+    pose = torch.zeros(b, n, P)
+    mask = torch.zeros(b, n, P, dtype=torch.bool)
+    local, root, rc, dna, keysets = [], [], [], [], []
+    k_dna = max(1, n // 180)
+    for i in range(b):
+        sl = data.window(n, rng)
+        lo, ro, r = data.local[sl], data.root[sl], data.rc[sl]
+        keys = sample_keys(n, rng)
+        ref = ro[keys][:, [0, 2]].mean(0)
+        frame_pose = lo.clone()
+        frame_pose[:, 0, :] = ro
+        frame_pose[:, 0, 0] -= ref[0]
+        frame_pose[:, 0, 2] -= ref[1]
+        frame_pose = frame_pose.reshape(n, P) / SCALE
+        for t in keys:
+            u = rng.random()
+            if u < 0.8:
+                m = torch.ones(P, dtype=torch.bool)
+            elif u < 0.9:  # root only
+                m = torch.zeros(P, dtype=torch.bool)
+                m[:3] = True
+            else:  # 2-D keys: x and y of every joint
+                m = torch.zeros(J, 3, dtype=torch.bool)
+                m[:, :2] = True
+                m = m.reshape(P)
+            pose[i, t] = frame_pose[t]
+            mask[i, t] = m
+        local.append(lo)
+        root.append(ro - torch.tensor([ref[0], 0.0, ref[1]]))
+        rc.append(r)
+        idx = rep_frames(r, k_dna)
+        dna.append(lam(lo[idx], r[idx, 3:9]).reshape(len(idx), P) / SCALE)
+        keysets.append(keys)
+    return (dense_input(pose, mask, n), mask, torch.stack(dna), torch.stack(local), torch.stack(root),
+            torch.stack(rc), keysets)
+
+
+def train_path(data, val, minutes, log, rng):
+    net = PathPredictor(len(data.joints) * 3)
+    opt = torch.optim.Adam(net.parameters(), lr=1e-3)
+    t0, step = time.time(), 0
+    while time.time() - t0 < minutes * 60:
+        xs, vs = [], []
+        for _ in range(8):
+            sl = data.window(256, rng)
+            xs.append(data.local[sl].reshape(256, -1).T / SCALE)
+            r = data.root[sl]
+            v = torch.zeros_like(r)
+            v[:-1] = r[1:] - r[:-1]
+            vs.append(v.T / SCALE)
+        x, v = torch.stack(xs), torch.stack(vs)
+        loss = path_loss(net(x), v)
+        opt.zero_grad()
+        loss.backward()
+        opt.step()
+        step += 1
+        if step % 200 == 0:
+            log({"stage": "path", "step": step, "loss": loss.item(), "sec": time.time() - t0})
+    net.eval()
+    return net, step
+
+
+def path_table(net, data, rng, windows=64, n=512):
+    """Table 5.2's columns on held-out windows: mean xz error of the n-frame root displacement (V_n) and y error."""
+    errs = {k: [] for k in range(8)}
+    yerr = {k: [] for k in range(8)}
+    with torch.no_grad():
+        for _ in range(windows):
+            sl = data.window(n, rng)
+            v = net(data.local[sl].reshape(n, -1).T.unsqueeze(0) / SCALE)[0].T * SCALE
+            cp = torch.cumsum(v, 0)
+            r = data.root[sl]
+            for k in range(8):
+                m = 2 ** k
+                dp = cp[m:] - cp[:-m]
+                dt = r[m + 1:] - r[1:-m]
+                d = (dp[: len(dt)] - dt)[:, [0, 2]].norm(dim=1)
+                errs[k].append(d.mean().item())
+                yerr[k].append((dp[: len(dt), 1] - dt[:, 1]).abs().mean().item())
+    # Y: the mean y-displacement error over the same intervals.
+    return {f"V{2 ** k}": float(np.mean(errs[k])) for k in range(8)} | {"Y": float(np.mean([np.mean(v) for v in yerr.values()]))}
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--data", default=os.path.join(ROOT, "train", "cache", "motion60.npz"))
+    ap.add_argument("--path-minutes", type=float, default=6)
+    ap.add_argument("--gen-minutes", type=float, default=50)
+    ap.add_argument("--frames", type=int, default=512)
+    ap.add_argument("--batch", type=int, default=4)
+    ap.add_argument("--threads", type=int, default=1)
+    ap.add_argument("--seed", type=int, default=0)
+    args = ap.parse_args()
+    torch.set_num_threads(args.threads)
+    torch.manual_seed(args.seed)
+    rng = np.random.default_rng(args.seed)
+    os.makedirs(OUT, exist_ok=True)
+    logf = open(os.path.join(OUT, "log.jsonl"), "a")
+
+    def log(d):
+        print(json.dumps(d), flush=True)
+        logf.write(json.dumps(d) + "\n")
+        logf.flush()
+
+    data, val = Data(args.data, "train"), Data(args.data, "val")
+    J = len(data.joints)
+    P = J * 3
+    fk = RCFK(data.joints, data.parents, data.offsets, data.channel_joints)
+    path, psteps = train_path(data, val, args.path_minutes, log, rng)
+    table = path_table(path, val, np.random.default_rng(1))
+    log({"stage": "path_eval_val", "steps": psteps, **table})
+    for p in path.parameters():
+        p.requires_grad_(False)
+    torch.save({"model": path.state_dict(), "steps": psteps, "table_5_2_val": table}, os.path.join(OUT, "path.pt"))
+
+    G = Generator(P, fk.output_dim)
+    D = Discriminator(P)
+    og = torch.optim.Adam(G.parameters(), lr=2e-4, betas=(0.5, 0.99))
+    od = torch.optim.Adam(D.parameters(), lr=1e-4, betas=(0.5, 0.99))
+    n, b = args.frames, args.batch
+    t0, step = time.time(), 0
+    while time.time() - t0 < args.gen_minutes * 60:
+        dense, mask, dna, local, root, rc, keysets = make_batch(data, b, n, rng)
+        raw = G(dense, dna).transpose(1, 2)                      # [B, N, out]
+        gen = fk(raw, torch.zeros(b, n, 3))                      # [B, N, J, 3] local (root at 0)
+        gen_s, gt_s = gen / SCALE, local / SCALE
+        losses = {}
+        losses["recon"] = ((gen_s - gt_s) ** 2).sum(-1).mean()
+        kmask = mask.reshape(b, n, J, 3).clone()
+        kmask[:, :, 0, :] = False
+        losses["key"] = (((gen_s - gt_s) ** 2) * kmask).sum() / kmask.sum().clamp(min=1)
+        vel = path(gen_s.reshape(b, n, P).transpose(1, 2)).transpose(1, 2) * SCALE   # [B, N, 3]
+        T = torch.cumsum(vel, 1) - vel[:, :1]
+        rl = []
+        for i, keys in enumerate(keysets):
+            ks = [t for t in keys if mask[i, t, 0]]
+            if len(ks) < 2:
+                continue
+            a = T[i, ks] - T[i, ks[0]]
+            c = root[i, ks] - root[i, ks[0]]
+            rl.append((((a - a.mean(0)) - (c - c.mean(0))) / SCALE).pow(2).sum(-1).mean())
+        losses["root"] = torch.stack(rl).mean() if rl else torch.zeros(())
+        # fake sequences with the key poses put back (Sec. 5.2.5)
+        full = mask.reshape(b, n, J, 3).all(-1).all(-1)          # [B, N] frames with full keys
+        fake = torch.where(full[..., None, None], gt_s, gen_s).reshape(b, n, P).transpose(1, 2)
+        losses["gan"] = ((D(fake) - GAN_TARGET) ** 2).mean()
+        br = [m.last for m in G.resconvs()]
+        losses["br"] = sum(((x.mean((0, 2)) ** 2).sum() + (torch.log(x.std((0, 2)) + 1e-6) ** 2).sum()) for x in br) / sum(x.shape[1] for x in br)
+        lg = lam(gen_s, raw[..., :6]).reshape(b, n, P)           # [B, N, P]
+        d2 = torch.cdist(lg, dna) ** 2                            # [B, N, K]
+        losses["dna1"] = d2.min(1).values.mean()
+        e = d2.min(2).values                                     # [B, N]
+        dl = []
+        for i, keys in enumerate(keysets):
+            for a, z in zip(keys[:-1], keys[1:]):
+                nk = (z - a) // 180
+                if nk >= 1:
+                    dl.append(torch.topk(e[i, a:z], nk, largest=False).values.mean())
+        losses["dna2"] = torch.stack(dl).mean() if dl else torch.zeros(())
+        total = sum(W[k] * v for k, v in losses.items())
+        og.zero_grad()
+        total.backward()
+        torch.nn.utils.clip_grad_norm_(G.parameters(), 10.0)
+        og.step()
+        # discriminator: LSGAN, real -> 1, fake -> -1 (eq. 5.7)
+        with torch.no_grad():
+            real = torch.stack([data.local[data.window(n, rng)] for _ in range(b)]) / SCALE
+        ld = ((D(real.reshape(b, n, P).transpose(1, 2)) - 1) ** 2).mean() + ((D(fake.detach()) + 1) ** 2).mean()
+        od.zero_grad()
+        ld.backward()
+        od.step()
+        step += 1
+        if step % 50 == 0:
+            log({"stage": "gen", "step": step, "sec": round(time.time() - t0), "total": total.item(), "D": ld.item(),
+                 **{k: round(v.item(), 6) for k, v in losses.items()}})
+        if step % 500 == 0:
+            torch.save({"G": G.state_dict(), "D": D.state_dict(), "steps": step, "args": vars(args)}, os.path.join(OUT, "gen.pt"))
+    torch.save({"G": G.state_dict(), "D": D.state_dict(), "steps": step, "args": vars(args)}, os.path.join(OUT, "gen.pt"))
+    log({"stage": "done", "gen_steps": step, "path_steps": psteps})
+
+
+if __name__ == "__main__":
+    main()
