@@ -12,6 +12,7 @@
 //! The core is pure Rust with no web types, so it is tested natively.
 
 pub mod error;
+pub mod motion;
 pub mod rcfk;
 pub mod rng;
 pub mod rotation;

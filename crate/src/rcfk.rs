@@ -248,10 +248,10 @@ impl RcSkeleton {
         mul(&mul(m, &rl), &transpose(m))
     }
 
-    /// RC-FK of one frame: `raw` = root 6D then `v` per rotating joint
-    /// (unconstrained; mapped through tanh). Returns global positions,
-    /// `joints × 3`.
-    pub fn forward(&self, raw: &[f32], root_pos: [f32; 3]) -> Result<Vec<f32>> {
+    /// Local rotations (BVH joint frames) of one frame of network output:
+    /// `raw` = root 6D then `v` per rotating joint (mapped through tanh onto
+    /// the ranges). Joints that do not rotate get the identity.
+    pub fn local_rotations(&self, raw: &[f32]) -> Result<Vec<Mat3<f64>>> {
         if raw.len() != self.output_dim() {
             return Err(Error::Shape {
                 what: "RC-FK frame".into(),
@@ -277,6 +277,14 @@ impl RcSkeleton {
             }
             local[j] = self.rotation_from_angles(k, u);
         }
+        Ok(local)
+    }
+
+    /// RC-FK of one frame: `raw` = root 6D then `v` per rotating joint
+    /// (unconstrained; mapped through tanh). Returns global positions,
+    /// `joints × 3`.
+    pub fn forward(&self, raw: &[f32], root_pos: [f32; 3]) -> Result<Vec<f32>> {
+        let local = self.local_rotations(raw)?;
         Ok(self.fk(&local, root_pos.map(|v| v as f64)))
     }
 

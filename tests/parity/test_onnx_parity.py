@@ -36,8 +36,11 @@ def test_model_is_valid_and_has_a_manifest(path):
 def test_onnxruntime_reproduces_fixture(path):
     f = json.load(open(path))
     sess = ort.InferenceSession(os.path.join(ONNX_DIR, f["model"]), providers=["CPUExecutionProvider"])
-    x = np.asarray(f["input"], dtype=np.float32).reshape(f["input_shape"])
-    y = sess.run(None, {f["input_name"]: x})[0]
+    if "inputs" in f:
+        feeds = {k: np.asarray(v["data"], dtype=np.float32).reshape(v["shape"]) for k, v in f["inputs"].items()}
+    else:
+        feeds = {f["input_name"]: np.asarray(f["input"], dtype=np.float32).reshape(f["input_shape"])}
+    y = sess.run(None, feeds)[0]
     expected = np.asarray(f["output_onnxruntime"], dtype=np.float32).reshape(f["output_shape"])
     assert y.shape == expected.shape
     diff = float(np.abs(y - expected).max())

@@ -22,7 +22,14 @@ const USAGE: &str = "usage:
       writes PREFIX.json (skeleton, frame rate, layouts), PREFIX.positions.f32
       (frames x joints x 3 global positions) and PREFIX.rc.f32 (frames x (3 + 6 + 3K):
       root position, root 6D, range-constrained Euler angles in radians, clamped to
-      Table D.1), little-endian f32; for the training pipeline";
+      Table D.1), little-endian f32; for the training pipeline
+  deeprep inbetween --from-bvh CLIP.bvh --keys F1,F2,... -o OUT.bvh
+          [--method model|slerp|zerovel] [--models DIR] [--no-post]
+      whole-pose keys from those frames of CLIP; OUT has CLIP's length, frame rate and
+      skeleton; frames between the first and last key are synthesized, the others copied
+  deeprep inbetween KEYS.json --frames N [-o OUT.bvh] [--models DIR] [--no-post]
+      KEYS.json: {\"keys\": [{\"frame\": F, \"channels\": [...]}, ...]} (BVH channels of the
+      model's skeleton); without arguments, runs the bundled example models/examples/keys.json";
 
 fn load(path: &str) -> Result<Bvh, String> {
     let bytes = std::fs::read(path).map_err(|e| format!("{path}: {e}"))?;
@@ -160,7 +167,211 @@ fn export(path: &str, prefix: &str) -> Result<(), String> {
         "mean_excess_deg_per_frame": excess_sum.iter().map(|e| e.to_degrees() / frames.max(1) as f64).collect::<Vec<_>>(),
     });
     let mp = format!("{prefix}.json");
-    std::fs::write(&mp, serde_json::to_string_pretty(&meta).unwrap_or_default()).map_err(|e| format!("{mp}: {e}"))?;
+    std::fs::write(&mp, serde_json::to_string_pretty(&meta).unwrap_or_default())
+        .map_err(|e| format!("{mp}: {e}"))?;
+    Ok(())
+}
+
+struct Opts {
+    from_bvh: Option<String>,
+    keys: Option<String>,
+    keys_json: Option<String>,
+    frames: Option<usize>,
+    out: Option<String>,
+    method: String,
+    models: String,
+    post: bool,
+}
+
+fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
+    let mut o = Opts {
+        from_bvh: None,
+        keys: None,
+        keys_json: None,
+        frames: None,
+        out: None,
+        method: "model".into(),
+        models: "models/onnx".into(),
+        post: true,
+    };
+    let mut i = 0;
+    while i < args.len() {
+        let next = |i: usize| {
+            args.get(i + 1)
+                .map(|s| s.to_string())
+                .ok_or_else(|| format!("{} needs a value", args[i]))
+        };
+        match args[i] {
+            "--from-bvh" => o.from_bvh = Some(next(i)?),
+            "--keys" => o.keys = Some(next(i)?),
+            "--frames" => {
+                o.frames = Some(
+                    next(i)?
+                        .parse()
+                        .map_err(|_| "--frames expects a number".to_string())?,
+                )
+            }
+            "-o" | "--out" => o.out = Some(next(i)?),
+            "--method" => o.method = next(i)?,
+            "--models" => o.models = next(i)?,
+            "--no-post" => {
+                o.post = false;
+                i += 1;
+                continue;
+            }
+            a if !a.starts_with('-') && o.keys_json.is_none() => {
+                o.keys_json = Some(a.to_string());
+                i += 1;
+                continue;
+            }
+            a => return Err(format!("unknown option '{a}'\n{USAGE}")),
+        }
+        i += 2;
+    }
+    Ok(o)
+}
+
+fn synthesize(
+    method: &str,
+    models: &str,
+    keys: &[deeprep::motion::Keyframe],
+    frames: usize,
+    post: bool,
+) -> Result<(deeprep::motion::Motion, String), String> {
+    use deeprep::motion::{baseline, pipeline};
+    match method {
+        "slerp" => Ok((
+            baseline::slerp_lerp(keys, frames).map_err(|e| e.to_string())?,
+            String::new(),
+        )),
+        "zerovel" => Ok((
+            baseline::zero_velocity(keys, frames).map_err(|e| e.to_string())?,
+            String::new(),
+        )),
+        "model" => {
+            let m = pipeline::TweenModels::load_dir(std::path::Path::new(models))
+                .map_err(|e| e.to_string())?;
+            let start = std::time::Instant::now();
+            let clock = move || start.elapsed().as_secs_f64() * 1000.0;
+            let req = pipeline::Request {
+                keys: keys.to_vec(),
+                frames,
+                dna: None,
+                post_process: post,
+            };
+            let out = m.synthesize(&req, &clock).map_err(|e| e.to_string())?;
+            let info = format!(
+                "key error before post-processing: root {:.3}, joints {:.3}; after: root {:.3}, joints {:.3}; stages ms: generator {:.1}, rc-fk {:.1}, path {:.1}, post {:.1}",
+                out.key_error_raw.root,
+                out.key_error_raw.local,
+                out.key_error.root,
+                out.key_error.local,
+                out.times.generator_ms,
+                out.times.rcfk_ms,
+                out.times.path_ms,
+                out.times.post_ms
+            );
+            Ok((out.motion, info))
+        }
+        other => Err(format!(
+            "unknown --method '{other}' (model, slerp, zerovel)"
+        )),
+    }
+}
+
+fn inbetween(args: &[&str]) -> Result<(), String> {
+    use deeprep::motion::Keyframe;
+    let o = parse_inbetween(args)?;
+    if let Some(clip) = &o.from_bvh {
+        let b = load(clip)?;
+        let list = o.keys.as_ref().ok_or("--from-bvh needs --keys F1,F2,...")?;
+        let frames: Vec<usize> = list
+            .split(',')
+            .map(|s| {
+                s.trim()
+                    .parse::<usize>()
+                    .map_err(|_| format!("--keys: '{s}' is not a frame index"))
+            })
+            .collect::<Result<_, _>>()?;
+        let (first, last) = (
+            *frames.first().ok_or("--keys is empty")?,
+            *frames.last().unwrap_or(&0),
+        );
+        if last < first {
+            return Err("--keys must be sorted".into());
+        }
+        let keys: Vec<Keyframe> = frames
+            .iter()
+            .map(|&f| Keyframe::from_bvh(&b, f, f.saturating_sub(first)))
+            .collect::<Result<_, _>>()
+            .map_err(|e| e.to_string())?;
+        let (motion, info) = synthesize(&o.method, &o.models, &keys, last - first + 1, o.post)?;
+        let synth = motion.to_bvh(&b, b.frame_time).map_err(|e| e.to_string())?;
+        let mut out = b.clone();
+        let c = b.channel_count();
+        out.motion[first * c..(last + 1) * c].copy_from_slice(&synth.motion);
+        let path = o.out.ok_or("-o OUT.bvh is required")?;
+        std::fs::write(&path, out.write()).map_err(|e| format!("{path}: {e}"))?;
+        eprintln!(
+            "wrote {path}: {} frames, frames {first}..={last} synthesized by {}. {info}",
+            out.frame_count(),
+            o.method
+        );
+        return Ok(());
+    }
+    let keys_path = o
+        .keys_json
+        .clone()
+        .unwrap_or_else(|| "models/examples/keys.json".into());
+    let text = std::fs::read_to_string(&keys_path).map_err(|e| format!("{keys_path}: {e}"))?;
+    let v: serde_json::Value =
+        serde_json::from_str(&text).map_err(|e| format!("{keys_path}: {e}"))?;
+    let models = deeprep::motion::pipeline::TweenModels::load_dir(std::path::Path::new(&o.models))
+        .map_err(|e| e.to_string())?;
+    let tpl = &models.template;
+    let mut keys = Vec::new();
+    for (i, k) in v["keys"]
+        .as_array()
+        .ok_or(format!("{keys_path}: expected a \"keys\" array"))?
+        .iter()
+        .enumerate()
+    {
+        let frame = k["frame"]
+            .as_u64()
+            .ok_or(format!("{keys_path}: key {i} lacks \"frame\""))? as usize;
+        let ch: Vec<f32> = k["channels"]
+            .as_array()
+            .ok_or(format!("{keys_path}: key {i} lacks \"channels\""))?
+            .iter()
+            .map(|x| {
+                x.as_f64()
+                    .map(|x| x as f32)
+                    .ok_or(format!("{keys_path}: key {i}: channels must be numbers"))
+            })
+            .collect::<Result<_, _>>()?;
+        if ch.len() != tpl.channel_count() {
+            return Err(format!(
+                "{keys_path}: key {i} has {} channels; the skeleton has {}",
+                ch.len(),
+                tpl.channel_count()
+            ));
+        }
+        let mut one = tpl.clone();
+        one.motion = ch;
+        keys.push(Keyframe::from_bvh(&one, 0, frame).map_err(|e| e.to_string())?);
+    }
+    let frames = o
+        .frames
+        .or(v["frames"].as_u64().map(|f| f as usize))
+        .ok_or("--frames N is required (or \"frames\" in the keys file)")?;
+    let (motion, info) = synthesize(&o.method, &o.models, &keys, frames, o.post)?;
+    let out = motion.to_bvh(tpl, 1.0 / 60.0).map_err(|e| e.to_string())?;
+    let path = o.out.unwrap_or_else(|| "inbetween.bvh".into());
+    std::fs::write(&path, out.write()).map_err(|e| format!("{path}: {e}"))?;
+    eprintln!(
+        "wrote {path}: {frames} frames at 60 fps from {} keys. {info}",
+        keys.len()
+    );
     Ok(())
 }
 
@@ -175,6 +386,7 @@ fn run(args: &[String]) -> Result<(), String> {
             fk_cmd(file, frame)
         }
         ["bvh", "export", file, "--out", prefix] => export(file, prefix),
+        ["inbetween", rest @ ..] => inbetween(rest),
         _ => Err(USAGE.to_string()),
     }
 }

@@ -1,0 +1,83 @@
+//! The dense keyframe input format (thesis Fig. 5.3), with a per-coordinate
+//! mask for partial keys. Mirrors `dense_input` in train/deeprep_train/tween.py.
+
+use super::Keyframe;
+
+/// Normalization constants, from the model manifest.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Norm {
+    /// BVH units per network unit.
+    pub scale: f32,
+    /// Frames per distance-transform unit.
+    pub dt_norm: f32,
+    /// Distance-transform clip, frames.
+    pub dt_clip: f32,
+}
+
+/// The x/z reference that root positions are taken relative to: the mean
+/// root x and z over keys that give them (0 if none does).
+pub fn root_reference(keys: &[Keyframe]) -> [f32; 2] {
+    let (mut sx, mut sz, mut n) = (0.0f64, 0.0f64, 0usize);
+    for k in keys.iter().filter(|k| k.mask[0] && k.mask[2]) {
+        sx += k.positions[0] as f64;
+        sz += k.positions[2] as f64;
+        n += 1;
+    }
+    if n == 0 {
+        [0.0, 0.0]
+    } else {
+        [(sx / n as f64) as f32, (sz / n as f64) as f32]
+    }
+}
+
+/// The network-space pose of a key (`joints × 3`, divided by scale, root x/z
+/// relative to `reference`).
+pub fn key_pose(k: &Keyframe, reference: [f32; 2], norm: &Norm) -> Vec<f32> {
+    let mut p: Vec<f32> = k.positions.clone();
+    p[0] -= reference[0];
+    p[2] -= reference[1];
+    p.iter().map(|v| v / norm.scale).collect()
+}
+
+/// Builds the dense input `[2P, frames]` (row-major: channel, then frame):
+/// per coordinate, the value at the nearest frame where it is given (ties go
+/// to the earlier frame), then the distance to it in frames / `dt_norm`,
+/// clipped at `dt_clip`. Coordinates no key gives are 0 with distance
+/// `dt_clip`.
+pub fn dense_input(keys: &[Keyframe], frames: usize, norm: &Norm) -> Vec<f32> {
+    let p = keys.first().map_or(0, |k| k.positions.len());
+    let reference = root_reference(keys);
+    let poses: Vec<Vec<f32>> = keys.iter().map(|k| key_pose(k, reference, norm)).collect();
+    let mut out = vec![0.0f32; 2 * p * frames];
+    for c in 0..p {
+        let given: Vec<usize> = (0..keys.len()).filter(|&i| keys[i].mask[c]).collect();
+        let (vals, dists) = out.split_at_mut(p * frames);
+        let vrow = &mut vals[c * frames..(c + 1) * frames];
+        let drow = &mut dists[c * frames..(c + 1) * frames];
+        if given.is_empty() {
+            drow.iter_mut()
+                .for_each(|d| *d = norm.dt_clip / norm.dt_norm);
+            continue;
+        }
+        let mut g = 0; // index into `given` of the last key at or before t
+        for t in 0..frames {
+            while g + 1 < given.len() && keys[given[g + 1]].frame <= t {
+                g += 1;
+            }
+            let a = given[g];
+            let fa = keys[a].frame;
+            let (src, dist) = if fa <= t {
+                // previous key is `a`; next is given[g + 1] if any
+                match given.get(g + 1) {
+                    Some(&b) if keys[b].frame - t < t - fa => (b, keys[b].frame - t),
+                    _ => (a, t - fa),
+                }
+            } else {
+                (a, fa - t) // t is before every key that gives c
+            };
+            vrow[t] = poses[src][c];
+            drow[t] = (dist as f32).min(norm.dt_clip) / norm.dt_norm;
+        }
+    }
+    out
+}

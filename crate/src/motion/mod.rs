@@ -1,0 +1,219 @@
+//! Keyframe in-betweening (thesis ch. 5): keyframes, the dense input format,
+//! the network pipeline, post-processing, and the interpolation baselines.
+//!
+//! - [`Keyframe`]: a pose at a frame, full or partial (per-coordinate mask).
+//! - [`dense`]: the dense keyframe input of Fig. 5.3.
+//! - [`pipeline`]: generator → RC-FK → path predictor → integrated root →
+//!   post-processing, on ONNX models run by tract.
+//! - [`baseline`]: SLERP+LERP and zero-velocity.
+//! - [`post`]: the correction that makes keyframes exact (Sec. 5.2.6).
+
+pub mod baseline;
+pub mod dense;
+pub mod pipeline;
+pub mod post;
+
+use crate::error::{Error, Result};
+use crate::rotation::euler::{matrix_to_euler, Axis, EulerOrder, Frame};
+use crate::rotation::{mul_vec, Mat3};
+use crate::skeleton::{fk, Bvh};
+
+/// A keyframe.
+#[derive(Clone, Debug)]
+pub struct Keyframe {
+    /// Frame index in the output.
+    pub frame: usize,
+    /// Joint positions, `joints × 3`, BVH units: joint 0 is the root's
+    /// global position, every other joint is relative to the root (world
+    /// orientation).
+    pub positions: Vec<f32>,
+    /// Which of the `joints × 3` coordinates are given (partial keys: root
+    /// only, chosen joints, 2-D x/y only).
+    pub mask: Vec<bool>,
+    /// Local rotations (BVH joint frames) when the key is a whole pose with
+    /// rotations (keys taken from a BVH); used to make keys exact.
+    pub rotations: Option<Vec<Mat3<f64>>>,
+}
+
+impl Keyframe {
+    /// A whole-pose key from frame `src` of a BVH clip, placed at `frame`.
+    pub fn from_bvh(bvh: &Bvh, src: usize, frame: usize) -> Result<Keyframe> {
+        if src >= bvh.frame_count() {
+            return Err(Error::Invalid(format!(
+                "key frame {src} is outside the clip's {} frames",
+                bvh.frame_count()
+            )));
+        }
+        let vals = bvh.frame(src);
+        let g = fk::global_pose(bvh, vals);
+        let root = g.positions[0];
+        let mut positions = Vec::with_capacity(3 * bvh.joints.len());
+        for (i, p) in g.positions.iter().enumerate() {
+            let q = if i == 0 { *p } else { *p - root };
+            positions.extend_from_slice(&[q.x as f32, q.y as f32, q.z as f32]);
+        }
+        let rotations = bvh
+            .joints
+            .iter()
+            .map(|j| {
+                let r = fk::local_rotation(
+                    &j.channels,
+                    &vals[j.channel_start..j.channel_start + j.channels.len()],
+                );
+                crate::rotation::from_glam_f64(&r)
+            })
+            .collect();
+        Ok(Keyframe {
+            frame,
+            mask: vec![true; positions.len()],
+            positions,
+            rotations: Some(rotations),
+        })
+    }
+
+    /// True when the root's x, y and z are all given.
+    pub fn has_root(&self) -> bool {
+        self.mask.len() >= 3 && self.mask[0] && self.mask[1] && self.mask[2]
+    }
+}
+
+/// Synthesized motion: per frame, the root position and every joint's local
+/// rotation (BVH joint frames).
+#[derive(Clone, Debug)]
+pub struct Motion {
+    /// Root positions.
+    pub root: Vec<[f64; 3]>,
+    /// Local rotations, `frames × joints`.
+    pub rotations: Vec<Vec<Mat3<f64>>>,
+}
+
+impl Motion {
+    /// Number of frames.
+    pub fn len(&self) -> usize {
+        self.root.len()
+    }
+
+    /// True when there are no frames.
+    pub fn is_empty(&self) -> bool {
+        self.root.is_empty()
+    }
+
+    /// Writes the motion as BVH channels on `template`'s skeleton (its
+    /// channel orders; root position channels get `root − offset`).
+    pub fn to_bvh(&self, template: &Bvh, frame_time: f64) -> Result<Bvh> {
+        let joints = template.joints.len();
+        if self.rotations.first().is_some_and(|r| r.len() != joints) {
+            return Err(Error::Shape {
+                what: "motion".into(),
+                expected: format!("{joints} joints"),
+                found: format!("{}", self.rotations[0].len()),
+            });
+        }
+        let mut out = template.clone();
+        out.frame_time = frame_time;
+        let c = template.channel_count();
+        out.motion = vec![0.0; c * self.len()];
+        for f in 0..self.len() {
+            let row = &mut out.motion[f * c..(f + 1) * c];
+            for (j, joint) in template.joints.iter().enumerate() {
+                let rot: Vec<Axis> = joint
+                    .channels
+                    .iter()
+                    .filter(|ch| ch.is_rotation())
+                    .map(|ch| [Axis::X, Axis::Y, Axis::Z][ch.axis()])
+                    .collect();
+                let angles = if rot.len() == 3 {
+                    let order = EulerOrder::new([rot[0], rot[1], rot[2]], Frame::Intrinsic)?;
+                    matrix_to_euler(&self.rotations[f][j], order)
+                } else {
+                    [0.0; 3]
+                };
+                let mut ri = 0;
+                for (k, ch) in joint.channels.iter().enumerate() {
+                    row[joint.channel_start + k] = if ch.is_rotation() {
+                        let a = angles[ri].to_degrees() as f32;
+                        ri += 1;
+                        a
+                    } else if j == 0 {
+                        (self.root[f][ch.axis()] - joint.offset[ch.axis()] as f64) as f32
+                    } else {
+                        0.0
+                    };
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// Local joint positions (root at 0, world orientation) of one frame on
+    /// a skeleton given by parents and offsets.
+    pub fn local_positions(
+        &self,
+        f: usize,
+        parents: &[Option<usize>],
+        offsets: &[[f64; 3]],
+    ) -> Vec<[f64; 3]> {
+        let n = parents.len();
+        let mut rot = vec![crate::rotation::identity::<f64>(); n];
+        let mut pos = vec![[0.0; 3]; n];
+        for j in 0..n {
+            match parents[j] {
+                None => rot[j] = self.rotations[f][j],
+                Some(p) => {
+                    let t = mul_vec(&rot[p], &offsets[j]);
+                    pos[j] = [pos[p][0] + t[0], pos[p][1] + t[1], pos[p][2] + t[2]];
+                    rot[j] = crate::rotation::mul(&rot[p], &self.rotations[f][j]);
+                }
+            }
+        }
+        pos
+    }
+}
+
+/// Checks a key set against a length and a joint count: sorted, unique,
+/// inside the length, finite, the right size.
+pub fn validate_keys(keys: &[Keyframe], frames: usize, joints: usize) -> Result<()> {
+    if keys.is_empty() {
+        return Err(Error::Invalid("no keyframes given".into()));
+    }
+    for (i, k) in keys.iter().enumerate() {
+        if k.frame >= frames {
+            return Err(Error::Invalid(format!(
+                "keyframe {i} is at frame {} but the motion has {frames} frames",
+                k.frame
+            )));
+        }
+        if i > 0 && k.frame <= keys[i - 1].frame {
+            return Err(Error::Invalid(format!(
+                "keyframes must be sorted with no duplicates: keyframe {i} (frame {}) follows frame {}",
+                k.frame,
+                keys[i - 1].frame
+            )));
+        }
+        if k.positions.len() != 3 * joints || k.mask.len() != 3 * joints {
+            return Err(Error::Shape {
+                what: format!("keyframe {i}"),
+                expected: format!(
+                    "{} positions and mask entries ({joints} joints)",
+                    3 * joints
+                ),
+                found: format!(
+                    "{} positions, {} mask entries",
+                    k.positions.len(),
+                    k.mask.len()
+                ),
+            });
+        }
+        crate::error::check_finite(&format!("keyframe {i} positions"), &k.positions)?;
+        if let Some(r) = &k.rotations {
+            if r.len() != joints {
+                return Err(Error::Shape {
+                    what: format!("keyframe {i} rotations"),
+                    expected: format!("{joints}"),
+                    found: format!("{}", r.len()),
+                });
+            }
+        }
+    }
+    Ok(())
+}

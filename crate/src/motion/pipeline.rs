@@ -1,0 +1,305 @@
+//! The in-betweening pipeline on ONNX models (thesis Fig. 5.1):
+//! dense input → generator (tract) → RC-FK → path predictor (tract) →
+//! integrated root path → post-processing → motion.
+
+use super::dense::{dense_input, Norm};
+use super::{post, validate_keys, Keyframe, Motion};
+use crate::error::{Error, Result};
+use crate::rcfk::{RcSkeleton, TableRow};
+use crate::rotation::transpose;
+use crate::runtime::{Model, TensorF32};
+use crate::skeleton::Bvh;
+use serde::Deserialize;
+
+/// Longest allowed gap between consecutive keys, frames (10 s at 60 fps,
+/// the thesis' 600-frame sampling bound, inside its 636-frame reach).
+pub const MAX_GAP: usize = 600;
+
+#[derive(Deserialize)]
+struct Manifest {
+    skeleton_bvh: String,
+    range_table: Vec<TableRow>,
+    normalization: NormJson,
+}
+
+#[derive(Deserialize)]
+struct NormJson {
+    scale: f32,
+    dt_norm: f32,
+    dt_clip: f32,
+}
+
+/// The two networks plus what they need: skeleton, ranges, normalization.
+pub struct TweenModels {
+    generator: Model,
+    path: Model,
+    /// RC-FK on the model's skeleton.
+    pub rc: RcSkeleton,
+    /// The skeleton as a BVH with no frames (channel orders for output).
+    pub template: Bvh,
+    /// Normalization constants.
+    pub norm: Norm,
+}
+
+/// A synthesis request.
+#[derive(Clone, Debug)]
+pub struct Request {
+    /// Keyframes, sorted by frame.
+    pub keys: Vec<Keyframe>,
+    /// Output length in frames (60 fps).
+    pub frames: usize,
+    /// Motion DNA: representative local poses without root rotation
+    /// (`joints × 3` each, BVH units). `None`: the whole-pose keys serve.
+    pub dna: Option<Vec<Vec<f32>>>,
+    /// Apply the post-processing that makes keys exact.
+    pub post_process: bool,
+}
+
+/// Milliseconds spent in each stage.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct StageTimes {
+    /// Dense input and generator.
+    pub generator_ms: f64,
+    /// RC-FK over all frames.
+    pub rcfk_ms: f64,
+    /// Path predictor and integration.
+    pub path_ms: f64,
+    /// Post-processing.
+    pub post_ms: f64,
+}
+
+/// Mean keyframe errors (BVH units).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct KeyError {
+    /// Root position error at keys that give the root.
+    pub root: f64,
+    /// Joint position error (relative to the root) over given coordinates.
+    pub local: f64,
+}
+
+/// A synthesis result.
+#[derive(Clone, Debug)]
+pub struct Output {
+    /// The motion.
+    pub motion: Motion,
+    /// Stage timings.
+    pub times: StageTimes,
+    /// Key errors before post-processing.
+    pub key_error_raw: KeyError,
+    /// Key errors after post-processing (equal to raw when it is off).
+    pub key_error: KeyError,
+}
+
+impl TweenModels {
+    /// Loads the generator and path predictor from ONNX bytes and the
+    /// generator's manifest JSON.
+    pub fn new(generator_onnx: &[u8], path_onnx: &[u8], manifest_json: &str) -> Result<Self> {
+        let m: Manifest = serde_json::from_str(manifest_json)
+            .map_err(|e| Error::Invalid(format!("tween manifest: {e}")))?;
+        let template = Bvh::parse(&m.skeleton_bvh)?;
+        let rc = RcSkeleton::new(&template, &m.range_table)?;
+        Ok(TweenModels {
+            generator: Model::from_onnx_bytes(generator_onnx)?,
+            path: Model::from_onnx_bytes(path_onnx)?,
+            rc,
+            template,
+            norm: Norm {
+                scale: m.normalization.scale,
+                dt_norm: m.normalization.dt_norm,
+                dt_clip: m.normalization.dt_clip,
+            },
+        })
+    }
+
+    /// Loads `tween_generator.onnx`, `tween_path.onnx` and the manifest from a folder.
+    #[cfg(not(target_arch = "wasm32"))]
+    pub fn load_dir(dir: &std::path::Path) -> Result<Self> {
+        let read = |n: &str| {
+            std::fs::read(dir.join(n))
+                .map_err(|e| Error::Invalid(format!("{}: {e}", dir.join(n).display())))
+        };
+        let manifest = String::from_utf8(read("tween_generator.manifest.json")?)
+            .map_err(|e| Error::Invalid(e.to_string()))?;
+        Self::new(
+            &read("tween_generator.onnx")?,
+            &read("tween_path.onnx")?,
+            &manifest,
+        )
+    }
+
+    /// Joints per pose.
+    pub fn joints(&self) -> usize {
+        self.template.joints.len()
+    }
+
+    /// Synthesizes a motion. `now_ms` is a clock (milliseconds) for the
+    /// stage timings; pass `|| 0.0` to skip timing.
+    pub fn synthesize(&self, req: &Request, now_ms: &dyn Fn() -> f64) -> Result<Output> {
+        let j = self.joints();
+        let p = 3 * j;
+        if req.frames == 0 {
+            return Err(Error::Invalid("the requested length is 0 frames".into()));
+        }
+        validate_keys(&req.keys, req.frames, j)?;
+        for w in req.keys.windows(2) {
+            if w[1].frame - w[0].frame > MAX_GAP {
+                return Err(Error::Invalid(format!(
+                    "keys at frames {} and {} are {} frames apart; the model reaches {MAX_GAP} frames (10 s at 60 fps)",
+                    w[0].frame,
+                    w[1].frame,
+                    w[1].frame - w[0].frame
+                )));
+            }
+        }
+        let n = req.frames.div_ceil(64).max(1) * 64;
+        let t0 = now_ms();
+        let dense = dense_input(&req.keys, n, &self.norm);
+        let dna = self.dna(req)?;
+        let k = dna.len() / p;
+        let out = self.generator.run(&[
+            TensorF32::new(dense, vec![1, 2 * p, n])?,
+            TensorF32::new(dna, vec![1, k, p])?,
+        ])?;
+        let raw = &out[0];
+        let d = self.rc.output_dim();
+        if raw.shape != [1, d, n] {
+            return Err(Error::Model(format!(
+                "generator output {:?}, expected [1, {d}, {n}]",
+                raw.shape
+            )));
+        }
+        let t1 = now_ms();
+        let mut rotations = Vec::with_capacity(n);
+        let mut frame = vec![0.0f32; d];
+        let mut local_in = vec![0.0f32; p * n];
+        for t in 0..n {
+            for c in 0..d {
+                frame[c] = raw.data[c * n + t];
+            }
+            let rots = self.rc.local_rotations(&frame)?;
+            let pos = self.rc.fk(&rots, [0.0; 3]);
+            for c in 0..p {
+                local_in[c * n + t] = pos[c] / self.norm.scale;
+            }
+            rotations.push(rots);
+        }
+        let t2 = now_ms();
+        let vel = &self
+            .path
+            .run(&[TensorF32::new(local_in.clone(), vec![1, p, n])?])?[0];
+        let anchor = req.keys.iter().find(|k| k.has_root());
+        let (t_anchor, r_anchor) = match anchor {
+            Some(k) => (
+                k.frame,
+                [
+                    k.positions[0] as f64,
+                    k.positions[1] as f64,
+                    k.positions[2] as f64,
+                ],
+            ),
+            None => (0, [0.0; 3]),
+        };
+        let mut cum = vec![[0.0f64; 3]; n];
+        for t in 1..n {
+            for c in 0..3 {
+                cum[t][c] = cum[t - 1][c] + vel.data[c * n + t - 1] as f64 * self.norm.scale as f64;
+            }
+        }
+        let root: Vec<[f64; 3]> = (0..req.frames)
+            .map(|t| [0, 1, 2].map(|c| r_anchor[c] + cum[t][c] - cum[t_anchor][c]))
+            .collect();
+        rotations.truncate(req.frames);
+        let mut motion = Motion { root, rotations };
+        let t3 = now_ms();
+        let key_error_raw = self.key_error(&motion, &req.keys);
+        let key_error = if req.post_process {
+            post::make_keys_exact(&mut motion, &req.keys);
+            self.key_error(&motion, &req.keys)
+        } else {
+            key_error_raw.clone()
+        };
+        let t4 = now_ms();
+        Ok(Output {
+            motion,
+            times: StageTimes {
+                generator_ms: t1 - t0,
+                rcfk_ms: t2 - t1,
+                path_ms: t3 - t2,
+                post_ms: t4 - t3,
+            },
+            key_error_raw,
+            key_error,
+        })
+    }
+
+    fn dna(&self, req: &Request) -> Result<Vec<f32>> {
+        let p = 3 * self.joints();
+        let s = self.norm.scale;
+        if let Some(d) = &req.dna {
+            if d.is_empty() || d.iter().any(|f| f.len() != p) {
+                return Err(Error::Shape {
+                    what: "Motion DNA".into(),
+                    expected: format!("one or more poses of {p} numbers"),
+                    found: format!("{} poses", d.len()),
+                });
+            }
+            let flat: Vec<f32> = d.iter().flatten().map(|v| v / s).collect();
+            crate::error::check_finite("Motion DNA", &flat)?;
+            return Ok(flat);
+        }
+        // The whole-pose keys, without root rotation, serve as DNA.
+        let mut flat = Vec::new();
+        for k in req.keys.iter().filter(|k| k.mask.iter().all(|m| *m)) {
+            let rt = k.rotations.as_ref().map(|r| transpose(&r[0]));
+            for jj in 0..self.joints() {
+                let v = if jj == 0 {
+                    [0.0; 3]
+                } else {
+                    [
+                        k.positions[3 * jj] as f64,
+                        k.positions[3 * jj + 1] as f64,
+                        k.positions[3 * jj + 2] as f64,
+                    ]
+                };
+                let v = match &rt {
+                    Some(m) => crate::rotation::mul_vec(m, &v),
+                    None => v,
+                };
+                flat.extend(v.iter().map(|x| *x as f32 / s));
+            }
+        }
+        if flat.is_empty() {
+            flat = vec![0.0; p];
+        }
+        Ok(flat)
+    }
+
+    /// Mean key errors of a motion.
+    pub fn key_error(&self, m: &Motion, keys: &[Keyframe]) -> KeyError {
+        let (mut re, mut rn, mut le, mut ln) = (0.0, 0usize, 0.0, 0usize);
+        for k in keys.iter().filter(|k| k.frame < m.len()) {
+            if k.has_root() {
+                let r = m.root[k.frame];
+                re += (0..3)
+                    .map(|c| (r[c] - k.positions[c] as f64).powi(2))
+                    .sum::<f64>()
+                    .sqrt();
+                rn += 1;
+            }
+            let pos = m.local_positions(k.frame, &self.rc.parents, &self.rc.offsets);
+            for (jj, q) in pos.iter().enumerate().skip(1) {
+                if (0..3).all(|c| k.mask[3 * jj + c]) {
+                    le += (0..3)
+                        .map(|c| (q[c] - k.positions[3 * jj + c] as f64).powi(2))
+                        .sum::<f64>()
+                        .sqrt();
+                    ln += 1;
+                }
+            }
+        }
+        KeyError {
+            root: if rn > 0 { re / rn as f64 } else { 0.0 },
+            local: if ln > 0 { le / ln as f64 } else { 0.0 },
+        }
+    }
+}

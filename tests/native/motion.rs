@@ -1,0 +1,307 @@
+//! In-betweening: dense input, baselines, post-processing, the model
+//! pipeline and tract parity on the exported models.
+
+use deeprep::motion::baseline::{slerp_lerp, zero_velocity};
+use deeprep::motion::dense::{dense_input, Norm};
+use deeprep::motion::pipeline::{Request, TweenModels};
+use deeprep::motion::post::make_keys_exact;
+use deeprep::motion::{Keyframe, Motion};
+use deeprep::rng::Rng;
+use deeprep::rotation::sample::uniform_so3;
+use deeprep::rotation::{geodesic_distance, Mat3};
+use deeprep::runtime::{Model, TensorF32};
+use deeprep::skeleton::Bvh;
+use std::path::PathBuf;
+
+const NORM: Norm = Norm {
+    scale: 100.0,
+    dt_norm: 60.0,
+    dt_clip: 600.0,
+};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn key(frame: usize, vals: &[f32], mask: &[bool]) -> Keyframe {
+    Keyframe {
+        frame,
+        positions: vals.to_vec(),
+        mask: mask.to_vec(),
+        rotations: None,
+    }
+}
+
+#[test]
+fn dense_input_copies_the_nearest_key_and_its_distance() {
+    // One joint (3 coordinates), keys at frames 2 and 6, 8 frames.
+    let a = key(2, &[100.0, 50.0, 300.0], &[true, true, true]);
+    let b = key(6, &[300.0, 70.0, 100.0], &[true, false, true]);
+    let d = dense_input(&[a, b], 8, &NORM);
+    let (n, p) = (8, 3);
+    let v = |c: usize, t: usize| d[c * n + t];
+    let dt = |c: usize, t: usize| d[(p + c) * n + t];
+    // Root x/z are taken relative to the mean key x/z: (200, 200).
+    let xs: Vec<f32> = (0..8).map(|t| v(0, t)).collect();
+    assert_eq!(xs, [-1.0, -1.0, -1.0, -1.0, -1.0, 1.0, 1.0, 1.0]); // frame 4 ties -> earlier key
+    let ds: Vec<f32> = (0..8).map(|t| dt(0, t) * 60.0).collect();
+    assert_eq!(ds, [2.0, 1.0, 0.0, 1.0, 2.0, 1.0, 0.0, 1.0]);
+    // y is only given by the first key: copied everywhere, distance grows.
+    assert!((0..8).all(|t| (v(1, t) - 0.5).abs() < 1e-6));
+    assert!((dt(1, 7) * 60.0 - 5.0).abs() < 1e-4);
+    // A coordinate no key gives: 0, and the clipped distance.
+    let c = key(3, &[0.0, 0.0, 0.0], &[false, false, false]);
+    let d = dense_input(&[c], 4, &NORM);
+    assert!(d[..12].iter().all(|x| *x == 0.0) && d[12..].iter().all(|x| (*x - 10.0).abs() < 1e-6));
+}
+
+fn rot_key(frame: usize, rng: &mut Rng, joints: usize) -> Keyframe {
+    let mut positions = vec![0.0f32; 3 * joints];
+    positions[0] = rng.normal() as f32 * 50.0;
+    positions[1] = 90.0;
+    positions[2] = rng.normal() as f32 * 50.0;
+    Keyframe {
+        frame,
+        mask: vec![true; 3 * joints],
+        positions,
+        rotations: Some((0..joints).map(|_| uniform_so3::<f64>(rng)).collect()),
+    }
+}
+
+#[test]
+fn slerp_lerp_hits_keys_and_interpolates_between() {
+    let mut rng = Rng::new(1);
+    let keys = vec![rot_key(3, &mut rng, 4), rot_key(13, &mut rng, 4)];
+    let m = slerp_lerp(&keys, 20).unwrap();
+    assert_eq!(m.len(), 20);
+    for k in &keys {
+        for j in 0..4 {
+            assert!(
+                geodesic_distance(&m.rotations[k.frame][j], &k.rotations.as_ref().unwrap()[j])
+                    < 1e-9
+            );
+        }
+    }
+    // Midway: the root is the average, each rotation halfway along the arc.
+    let mid = &m.root[8];
+    assert!((mid[0] - (keys[0].positions[0] + keys[1].positions[0]) as f64 / 2.0).abs() < 1e-4);
+    for j in 0..4 {
+        let (a, b) = (
+            &keys[0].rotations.as_ref().unwrap()[j],
+            &keys[1].rotations.as_ref().unwrap()[j],
+        );
+        let (da, db) = (
+            geodesic_distance(&m.rotations[8][j], a),
+            geodesic_distance(&m.rotations[8][j], b),
+        );
+        assert!((da - db).abs() < 1e-6, "{da} vs {db}");
+    }
+    // Outside the keys, the nearest key is held; zero-velocity holds the last key.
+    assert_eq!(m.root[0], m.root[3]);
+    assert_eq!(m.root[19], m.root[13]);
+    let z = zero_velocity(&keys, 20).unwrap();
+    assert_eq!(z.root[12], z.root[3]);
+}
+
+#[test]
+fn post_processing_makes_keys_exact_and_leaves_smooth_corrections() {
+    let mut rng = Rng::new(2);
+    let keys = vec![
+        rot_key(0, &mut rng, 3),
+        rot_key(30, &mut rng, 3),
+        rot_key(59, &mut rng, 3),
+    ];
+    let mut m = Motion {
+        root: (0..60).map(|t| [t as f64, 80.0, 0.0]).collect(),
+        rotations: (0..60)
+            .map(|_| (0..3).map(|_| uniform_so3::<f64>(&mut rng)).collect())
+            .collect(),
+    };
+    let before = m.clone();
+    make_keys_exact(&mut m, &keys);
+    for k in &keys {
+        for c in 0..3 {
+            assert!((m.root[k.frame][c] - k.positions[c] as f64).abs() < 1e-9);
+        }
+        for j in 0..3 {
+            assert!(
+                geodesic_distance(&m.rotations[k.frame][j], &k.rotations.as_ref().unwrap()[j])
+                    < 1e-7
+            );
+        }
+    }
+    // The root correction is a smooth blend: its change per frame is bounded
+    // by the key errors divided by the gap (smoothstep's slope is 1.5).
+    let corr: Vec<f64> = (0..60).map(|t| m.root[t][0] - before.root[t][0]).collect();
+    for t in 1..30 {
+        let step = (corr[t] - corr[t - 1]).abs();
+        assert!(step <= 1.5 * (corr[30] - corr[0]).abs() / 30.0 + 1e-9);
+    }
+}
+
+#[test]
+fn bad_requests_are_clear_errors() {
+    let mut rng = Rng::new(3);
+    let k = |f| rot_key(f, &mut Rng::new(f as u64), 2);
+    assert!(slerp_lerp(&[k(5), k(5)], 10)
+        .unwrap_err()
+        .to_string()
+        .contains("sorted with no duplicates"));
+    assert!(slerp_lerp(&[k(5), k(3)], 10).is_err());
+    assert!(slerp_lerp(&[k(5), k(12)], 10)
+        .unwrap_err()
+        .to_string()
+        .contains("motion has 10 frames"));
+    let mut nan = rot_key(1, &mut rng, 2);
+    nan.positions[4] = f32::NAN;
+    assert!(slerp_lerp(&[nan], 10)
+        .unwrap_err()
+        .to_string()
+        .contains("not finite"));
+    let mut short = rot_key(1, &mut rng, 2);
+    short.positions.pop();
+    assert!(slerp_lerp(&[short], 10).is_err());
+    let partial = key(1, &[0.0; 6], &[true, true, true, false, false, false]);
+    assert!(slerp_lerp(&[partial], 10)
+        .unwrap_err()
+        .to_string()
+        .contains("whole-pose"));
+}
+
+// ---------------------------------------------------------------------------
+// The exported models (models/onnx/tween_*.onnx).
+
+fn models() -> Option<TweenModels> {
+    let dir = root().join("models/onnx");
+    if !dir.join("tween_generator.onnx").exists() {
+        eprintln!("SKIP: models/onnx/tween_generator.onnx is not exported yet");
+        return None;
+    }
+    Some(TweenModels::load_dir(&dir).unwrap())
+}
+
+fn fixture_parity(name: &str) {
+    let p = root().join(format!("models/onnx/fixtures/{name}.json"));
+    let Ok(text) = std::fs::read_to_string(&p) else {
+        eprintln!("SKIP: {} missing", p.display());
+        return;
+    };
+    let f: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let floats = |v: &serde_json::Value| -> Vec<f32> {
+        v.as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap() as f32)
+            .collect()
+    };
+    let shape = |v: &serde_json::Value| -> Vec<usize> {
+        v.as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_u64().unwrap() as usize)
+            .collect()
+    };
+    let inputs: Vec<TensorF32> = f["inputs"]
+        .as_object()
+        .unwrap()
+        .values()
+        .map(|v| TensorF32::new(floats(&v["data"]), shape(&v["shape"])).unwrap())
+        .collect();
+    let model = Model::from_onnx_bytes(
+        &std::fs::read(
+            root()
+                .join("models/onnx")
+                .join(f["model"].as_str().unwrap()),
+        )
+        .unwrap(),
+    )
+    .unwrap();
+    let out = model.run(&inputs).unwrap();
+    let expected = floats(&f["output_onnxruntime"]);
+    let diff = out[0]
+        .data
+        .iter()
+        .zip(&expected)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0f32, f32::max);
+    assert!(diff <= 1e-4, "{name}: tract vs onnxruntime {diff}");
+}
+
+#[test]
+fn tract_matches_onnxruntime_on_the_tween_models() {
+    fixture_parity("tween_generator");
+    fixture_parity("tween_path");
+}
+
+#[test]
+fn the_model_pipeline_hits_keys_exactly_after_post_processing() {
+    let Some(m) = models() else { return };
+    let j = m.joints();
+    // Keys: three poses of the model's own rest skeleton, turned and moved.
+    let mut keys = Vec::new();
+    for (i, f) in [0usize, 90, 200].iter().enumerate() {
+        let mut b: Bvh = m.template.clone();
+        let mut ch = vec![0.0f32; b.channel_count()];
+        ch[0] = 40.0 * i as f32;
+        ch[1] = 85.0;
+        ch[3] = 30.0 * i as f32; // Zrotation of the root
+        b.motion = ch;
+        keys.push(Keyframe::from_bvh(&b, 0, *f).unwrap());
+    }
+    let req = Request {
+        keys: keys.clone(),
+        frames: 230,
+        dna: None,
+        post_process: true,
+    };
+    let out = m.synthesize(&req, &|| 0.0).unwrap();
+    assert_eq!(out.motion.len(), 230);
+    assert_eq!(out.motion.rotations[0].len(), j);
+    assert!(out.key_error.root < 1e-6, "{:?}", out.key_error);
+    assert!(out.key_error.local < 1e-3, "{:?}", out.key_error);
+    for k in &keys {
+        for (a, b) in out.motion.rotations[k.frame]
+            .iter()
+            .zip(k.rotations.as_ref().unwrap())
+        {
+            let r: &Mat3<f64> = a;
+            assert!(geodesic_distance(r, b) < 1e-6);
+        }
+    }
+    // Every frame is finite and writes as BVH with the requested frame count.
+    let bvh = out.motion.to_bvh(&m.template, 1.0 / 60.0).unwrap();
+    assert_eq!(Bvh::parse(&bvh.write()).unwrap().frame_count(), 230);
+    assert!(bvh.motion.iter().all(|v| v.is_finite()));
+    // Bad requests.
+    let far = Request {
+        keys: vec![
+            keys[0].clone(),
+            Keyframe {
+                frame: 700,
+                ..keys[1].clone()
+            },
+        ],
+        frames: 800,
+        dna: None,
+        post_process: true,
+    };
+    assert!(m
+        .synthesize(&far, &|| 0.0)
+        .unwrap_err()
+        .to_string()
+        .contains("600 frames"));
+    let zero = Request {
+        frames: 0,
+        ..req.clone()
+    };
+    assert!(m.synthesize(&zero, &|| 0.0).is_err());
+    let bad_dna = Request {
+        dna: Some(vec![vec![0.0; 5]]),
+        ..req
+    };
+    assert!(m
+        .synthesize(&bad_dna, &|| 0.0)
+        .unwrap_err()
+        .to_string()
+        .contains("Motion DNA"));
+}

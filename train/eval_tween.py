@@ -1,0 +1,252 @@
+"""Evaluates in-betweening on the validation takes (never trained on), at
+gaps of 30, 60, 120 and 300 frames (60 fps), for the model and two
+baselines computed on the same windows: zero-velocity and SLERP+LERP.
+
+Each validation clip is resampled to 60 fps (train/data_pipeline.py's rule),
+then `deeprep inbetween --from-bvh CLIP --keys s, s+g, s+2g, ...` is run for
+every method, so every interval of g frames is one evaluation window.
+
+Metrics, on the frames strictly between keys:
+  L2P   LaFAN1's: global positions (each window re-centred on its first
+        key's root x/z) normalized by the training set's per-coordinate
+        mean and std, L2 norm per frame, averaged.
+  L2Q   LaFAN1's: global joint quaternions (sign matched to the ground
+        truth), L2 norm per frame, averaged.
+  NPSS  LaFAN1's normalized power spectrum similarity on the global
+        quaternions of each window (an earth mover's distance summed over
+        frequencies, so it grows with the window length: compare methods at
+        one gap, not gaps with each other).
+  foot skating: mean horizontal foot speed (units/frame) while the foot is
+        within 5 units of the clip's floor.
+  key alignment: the model's mean key errors before/after post-processing.
+
+Writes docs/inbetween_eval.json and docs/inbetween_eval.png and prints a
+Markdown table.  Run: train/.venv/bin/python train/eval_tween.py
+"""
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from data_pipeline import DATA, TRUE_FPS, VALIDATION, take_of  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+GAPS = [30, 60, 120, 300]
+METHODS = os.environ.get("EVAL_METHODS", "zerovel,slerp,model").split(",")
+FEET = ["lFoot", "rFoot", "lFoot_Nub", "rFoot_Nub"]
+
+
+def cli():
+    for p in ("target/release/deeprep", "target/debug/deeprep"):
+        if os.path.exists(os.path.join(ROOT, p)):
+            return os.path.join(ROOT, p)
+    sys.exit("build the CLI first: cargo build --release --bin deeprep")
+
+
+def resample(src, dst, step):
+    text = open(src).read()
+    head, motion = text.split("MOTION", 1)
+    lines = [x for x in motion.strip().splitlines()[2:] if x.strip()]
+    lines = lines[::step]
+    with open(dst, "w") as f:
+        f.write(head + f"MOTION\nFrames: {len(lines)}\nFrame Time: {1 / 60:.8f}\n" + "\n".join(lines) + "\n")
+    return len(lines)
+
+
+def read_bvh(path):
+    """Names, parents, offsets, channel lists and the motion matrix."""
+    text = open(path).read()
+    head, motion = text.split("MOTION", 1)
+    names, parents, offsets, chans, stack, pending = [], [], [], [], [], None
+    for line in head.splitlines():
+        t = line.split()
+        if not t:
+            continue
+        if t[0] in ("ROOT", "JOINT"):
+            pending = t[1]
+        elif t[0] == "End":
+            pending = names[stack[-1]] + "_Nub"
+        elif t[0] == "{":
+            names.append(pending)
+            parents.append(stack[-1] if stack else -1)
+            offsets.append([0, 0, 0])
+            chans.append([])
+            stack.append(len(names) - 1)
+        elif t[0] == "}":
+            stack.pop()
+        elif t[0] == "OFFSET":
+            offsets[stack[-1]] = [float(x) for x in t[1:4]]
+        elif t[0] == "CHANNELS":
+            chans[stack[-1]] = t[2:]
+    rows = [x for x in motion.strip().splitlines()[2:] if x.strip()]
+    data = np.array([[float(v) for v in r.split()] for r in rows], dtype=np.float64)
+    return names, parents, np.array(offsets), chans, data
+
+
+def axis_rot(axis, a):
+    c, s = np.cos(a), np.sin(a)
+    o, z = np.ones_like(a), np.zeros_like(a)
+    if axis == "X":
+        m = [[o, z, z], [z, c, -s], [z, s, c]]
+    elif axis == "Y":
+        m = [[c, z, s], [z, o, z], [-s, z, c]]
+    else:
+        m = [[c, -s, z], [s, c, z], [z, z, o]]
+    return np.stack([np.stack(r, -1) for r in m], -2)
+
+
+def global_fk(bvh):
+    """Global positions [F, J, 3] and rotation matrices [F, J, 3, 3]."""
+    names, parents, offsets, chans, data = bvh
+    F, J = len(data), len(names)
+    rot = np.zeros((F, J, 3, 3))
+    pos = np.zeros((F, J, 3))
+    col = 0
+    for j in range(J):
+        r = np.broadcast_to(np.eye(3), (F, 3, 3)).copy()
+        t = np.broadcast_to(offsets[j], (F, 3)).copy()
+        for c in chans[j]:
+            v = data[:, col]
+            col += 1
+            if c.endswith("rotation"):
+                r = r @ axis_rot(c[0], np.radians(v))
+            else:
+                t[:, "XYZ".index(c[0])] += v
+        p = parents[j]
+        if p < 0:
+            rot[:, j], pos[:, j] = r, t
+        else:
+            pos[:, j] = pos[:, p] + np.einsum("fij,fj->fi", rot[:, p], t)
+            rot[:, j] = rot[:, p] @ r
+    return pos, rot
+
+
+def mat_to_quat(m):
+    """Unit quaternions [w, x, y, z] (w >= 0) of rotation matrices [..., 3, 3]."""
+    w = np.sqrt(np.clip(1 + m[..., 0, 0] + m[..., 1, 1] + m[..., 2, 2], 0, None)) / 2
+    x = np.copysign(np.sqrt(np.clip(1 + m[..., 0, 0] - m[..., 1, 1] - m[..., 2, 2], 0, None)) / 2, m[..., 2, 1] - m[..., 1, 2])
+    y = np.copysign(np.sqrt(np.clip(1 - m[..., 0, 0] + m[..., 1, 1] - m[..., 2, 2], 0, None)) / 2, m[..., 0, 2] - m[..., 2, 0])
+    z = np.copysign(np.sqrt(np.clip(1 - m[..., 0, 0] - m[..., 1, 1] + m[..., 2, 2], 0, None)) / 2, m[..., 1, 0] - m[..., 0, 1])
+    q = np.stack([w, x, y, z], -1)
+    return q / np.linalg.norm(q, axis=-1, keepdims=True)
+
+
+def npss(gt, pred):
+    """LaFAN1's NPSS. gt, pred: [batch, time, features]."""
+    gt_p = np.square(np.real(np.fft.fft(gt, axis=1)))
+    pr_p = np.square(np.real(np.fft.fft(pred, axis=1)))
+    gt_tot = gt_p.sum(1)
+    pr_tot = pr_p.sum(1)
+    w = gt_tot / gt_tot.sum(1, keepdims=True)
+    cdf_gt = np.cumsum(gt_p / np.maximum(gt_tot[:, None, :], 1e-12), 1)
+    cdf_pr = np.cumsum(pr_p / np.maximum(pr_tot[:, None, :], 1e-12), 1)
+    emd = np.abs(cdf_pr - cdf_gt).sum(1)
+    return float(np.average(emd, weights=w))
+
+
+def main():
+    if not os.path.isdir(DATA):
+        sys.exit(f"SKIP: {DATA} is absent")
+    d = np.load(os.path.join(ROOT, "train", "cache", "motion60.npz"))
+    glob_train = d["train_local"] + d["train_root"][:, None, :]
+    glob_train[:, :, [0, 2]] -= d["train_root"][:, None, [0, 2]]
+    mu, sd = glob_train.reshape(len(glob_train), -1).mean(0), glob_train.reshape(len(glob_train), -1).std(0) + 1e-6
+    acc = {(m, g): {"l2p": [], "l2q": [], "gt": [], "pred": [], "skate": [], "keyraw": [], "key": []} for m in METHODS for g in GAPS}
+    gt_skate = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for cls in sorted(TRUE_FPS):
+            for name in sorted(os.listdir(os.path.join(DATA, cls))):
+                if take_of(cls, int(name[:-4])) not in VALIDATION:
+                    continue
+                clip = os.path.join(tmp, f"{cls}_{name}")
+                n = resample(os.path.join(DATA, cls, name), clip, TRUE_FPS[cls] // 60)
+                gt = read_bvh(clip)
+                gpos, grot = global_fk(gt)
+                feet = [gt[0].index(f) for f in FEET]
+                floor = np.median(gpos[:, :, 1].min(1))
+                for g in GAPS:
+                    keys = list(range(10, n - 1, g))
+                    for m in METHODS:
+                        out = os.path.join(tmp, f"out_{m}_{g}.bvh")
+                        r = subprocess.run([cli(), "inbetween", "--from-bvh", clip, "--keys", ",".join(map(str, keys)),
+                                            "--method", m, "-o", out], capture_output=True, text=True)
+                        if r.returncode != 0:
+                            sys.exit(f"{m} on {clip}: {r.stderr}")
+                        if m == "model":
+                            nums = [float(x) for x in re.findall(r"root ([0-9.]+), joints ([0-9.]+)", r.stderr)[0] + re.findall(r"root ([0-9.]+), joints ([0-9.]+)", r.stderr)[1]]
+                            acc[(m, g)]["keyraw"].append(nums[:2])
+                            acc[(m, g)]["key"].append(nums[2:])
+                        ppos, prot = global_fk(read_bvh(out))
+                        for a, b in zip(keys[:-1], keys[1:]):
+                            sl = slice(a + 1, b)
+                            off = gpos[a, 0].copy()
+                            off[1] = 0
+                            P = ((ppos[sl] - off).reshape(b - a - 1, -1) - mu) / sd
+                            G = ((gpos[sl] - off).reshape(b - a - 1, -1) - mu) / sd
+                            acc[(m, g)]["l2p"].append(np.linalg.norm(P - G, axis=1).mean())
+                            qg, qp = mat_to_quat(grot[sl]), mat_to_quat(prot[sl])
+                            sign = np.sign((qg * qp).sum(-1, keepdims=True))
+                            sign[sign == 0] = 1
+                            qp = qp * sign
+                            acc[(m, g)]["l2q"].append(np.linalg.norm((qp - qg).reshape(b - a - 1, -1), axis=1).mean())
+                            acc[(m, g)]["gt"].append(qg.reshape(b - a - 1, -1))
+                            acc[(m, g)]["pred"].append(qp.reshape(b - a - 1, -1))
+                            fp = ppos[a:b, feet]
+                            v = np.linalg.norm(fp[1:, :, [0, 2]] - fp[:-1, :, [0, 2]], axis=-1)
+                            contact = fp[1:, :, 1] < floor + 5
+                            acc[(m, g)]["skate"].append(float(v[contact].mean()) if contact.any() else 0.0)
+                    if g == GAPS[0]:
+                        fg = gpos[:, feet]
+                        v = np.linalg.norm(fg[1:, :, [0, 2]] - fg[:-1, :, [0, 2]], axis=-1)
+                        gt_skate.append(float(v[fg[1:, :, 1] < floor + 5].mean()))
+    res = {}
+    for (m, g), a in acc.items():
+        res[f"{m}@{g}"] = {
+            "method": m, "gap": g, "windows": len(a["l2p"]),
+            "L2P": float(np.mean(a["l2p"])), "L2Q": float(np.mean(a["l2q"])),
+            "NPSS": float(np.mean([npss(x[None], y[None]) for x, y in zip(a["gt"], a["pred"])])),
+            "foot_skate": float(np.mean(a["skate"])),
+        }
+        if a["key"]:
+            res[f"{m}@{g}"]["key_error_before_post"] = np.mean(a["keyraw"], 0).tolist()
+            res[f"{m}@{g}"]["key_error_after_post"] = np.mean(a["key"], 0).tolist()
+    res["ground_truth_foot_skate"] = float(np.mean(gt_skate))
+    os.makedirs(os.path.join(ROOT, "docs"), exist_ok=True)
+    with open(os.path.join(ROOT, "docs", "inbetween_eval.json"), "w") as f:
+        json.dump(res, f, indent=1)
+    print("| metric | method | " + " | ".join(f"gap {g}" for g in GAPS) + " |")
+    print("|---|---|" + "---|" * len(GAPS))
+    for metric in ["L2P", "L2Q", "NPSS", "foot_skate"]:
+        for m in METHODS:
+            print(f"| {metric} | {m} | " + " | ".join(f"{res[f'{m}@{g}'][metric]:.3f}" for g in GAPS) + " |")
+    print(f"ground-truth foot skating: {res['ground_truth_foot_skate']:.3f} units/frame")
+    for g in GAPS:
+        r = res.get(f"model@{g}", {})
+        if "key_error_before_post" in r:
+            print(f"gap {g}: model key error (root, joints) before post {r['key_error_before_post']}, after {r['key_error_after_post']}")
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, ax = plt.subplots(1, 3, figsize=(13, 3.6))
+        for i, metric in enumerate(["L2P", "L2Q", "NPSS"]):
+            for m in METHODS:
+                ax[i].plot(GAPS, [res[f"{m}@{g}"][metric] for g in GAPS], marker="o", label=m)
+            ax[i].set_xscale("log")
+            ax[i].set_xticks(GAPS, [str(g) for g in GAPS])
+            ax[i].set_xlabel("gap (frames at 60 fps)")
+            ax[i].set_title(metric + " (lower is better)")
+        ax[0].legend()
+        fig.tight_layout()
+        fig.savefig(os.path.join(ROOT, "docs", "inbetween_eval.png"), dpi=110)
+    except ImportError:
+        print("matplotlib missing: no plot")
+
+
+if __name__ == "__main__":
+    main()
