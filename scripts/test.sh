@@ -26,6 +26,9 @@ section "wasm: wasm-bindgen-test in headless Chromium"
   cargo test -p deeprep --release "${WASM_CARGO_FLAGS[@]}" --test wasm_browser
 )
 
+section "bench: in-betweening smoke run (one 512-frame synthesis; full run: bash scripts/bench.sh)"
+DEEPREP_BENCH_SMOKE=1 cargo test --bench inbetween
+
 section "web: the page in headless Chromium (Playwright)"
 node --test tests/web/
 

@@ -235,6 +235,12 @@ impl RcSkeleton {
         6 + 3 * self.rotating.len()
     }
 
+    /// Local rotation (BVH joint frame) of rotating joint `k` from angles
+    /// `[ux, uy, uz]` in radians (not clamped).
+    pub fn rotation_for(&self, k: usize, u: [f64; 3]) -> Mat3<f64> {
+        self.rotation_from_angles(k, u)
+    }
+
     /// Local rotation in the BVH joint frame from angles `[ux, uy, uz]`.
     fn rotation_from_angles(&self, k: usize, u: [f64; 3]) -> Mat3<f64> {
         let o = self.orders[k];

@@ -170,6 +170,36 @@ impl Motion {
     }
 }
 
+/// The Motion DNA form of a whole-pose key (Sec. 5.2.5, Λ): joint
+/// positions relative to the root with the root rotation removed,
+/// `joints × 3`, BVH units (joint 0 is 0). Without rotations the root
+/// rotation is taken as the identity.
+pub fn dna_pose(k: &Keyframe) -> Vec<f32> {
+    let rt = k
+        .rotations
+        .as_ref()
+        .map(|r| crate::rotation::transpose(&r[0]));
+    let j = k.positions.len() / 3;
+    let mut out = Vec::with_capacity(3 * j);
+    for jj in 0..j {
+        let v = if jj == 0 {
+            [0.0; 3]
+        } else {
+            [
+                k.positions[3 * jj] as f64,
+                k.positions[3 * jj + 1] as f64,
+                k.positions[3 * jj + 2] as f64,
+            ]
+        };
+        let v = match &rt {
+            Some(m) => mul_vec(m, &v),
+            None => v,
+        };
+        out.extend(v.iter().map(|x| *x as f32));
+    }
+    out
+}
+
 /// Checks a key set against a length and a joint count: sorted, unique,
 /// inside the length, finite, the right size.
 pub fn validate_keys(keys: &[Keyframe], frames: usize, joints: usize) -> Result<()> {

@@ -6,7 +6,6 @@ use super::dense::{dense_input, Norm};
 use super::{post, validate_keys, Keyframe, Motion};
 use crate::error::{Error, Result};
 use crate::rcfk::{RcSkeleton, TableRow};
-use crate::rotation::transpose;
 use crate::runtime::{Model, TensorF32};
 use crate::skeleton::Bvh;
 use serde::Deserialize;
@@ -248,26 +247,12 @@ impl TweenModels {
             return Ok(flat);
         }
         // The whole-pose keys, without root rotation, serve as DNA.
-        let mut flat = Vec::new();
-        for k in req.keys.iter().filter(|k| k.mask.iter().all(|m| *m)) {
-            let rt = k.rotations.as_ref().map(|r| transpose(&r[0]));
-            for jj in 0..self.joints() {
-                let v = if jj == 0 {
-                    [0.0; 3]
-                } else {
-                    [
-                        k.positions[3 * jj] as f64,
-                        k.positions[3 * jj + 1] as f64,
-                        k.positions[3 * jj + 2] as f64,
-                    ]
-                };
-                let v = match &rt {
-                    Some(m) => crate::rotation::mul_vec(m, &v),
-                    None => v,
-                };
-                flat.extend(v.iter().map(|x| *x as f32 / s));
-            }
-        }
+        let mut flat: Vec<f32> = req
+            .keys
+            .iter()
+            .filter(|k| k.mask.iter().all(|m| *m))
+            .flat_map(|k| super::dna_pose(k).into_iter().map(|v| v / s))
+            .collect();
         if flat.is_empty() {
             flat = vec![0.0; p];
         }
