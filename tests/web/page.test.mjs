@@ -13,7 +13,7 @@ after(async () => { await browser?.close(); await server?.close(); });
 test('the page draws Figure C.1 and runs the ONNX model, with no console errors', async () => {
   const page = await browser.context.newPage();
   const errors = watchErrors(page);
-  await page.goto(`${server.url}/web/index.html`);
+  await page.goto(`${server.url}/web/rotations.html`);
   await page.waitForSelector('body[data-ready="1"]', { timeout: 60_000 }).catch(async (e) => {
     throw new Error(`page never became ready: ${await page.textContent('#status')} ${errors.join(' | ')} (${e.message})`);
   });
@@ -55,7 +55,7 @@ test('the page draws Figure C.1 and runs the ONNX model, with no console errors'
 
 test('bad input to the JS API raises an Error with a message', async () => {
   const page = await browser.context.newPage();
-  await page.goto(`${server.url}/web/index.html`);
+  await page.goto(`${server.url}/web/rotations.html`);
   await page.waitForSelector('body[data-ready="1"]', { timeout: 60_000 });
   const msgs = await page.evaluate(async () => {
     const m = await import('./pkg/deeprep.js');
@@ -80,7 +80,7 @@ test('bad input to the JS API raises an Error with a message', async () => {
 
 test('BVH from JS: parse, FK positions, write, parse again', async () => {
   const page = await browser.context.newPage();
-  await page.goto(`${server.url}/web/index.html`);
+  await page.goto(`${server.url}/web/rotations.html`);
   await page.waitForSelector('body[data-ready="1"]', { timeout: 60_000 });
   const r = await page.evaluate(async () => {
     const m = await import('./pkg/deeprep.js');

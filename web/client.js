@@ -1,0 +1,43 @@
+// A Promise API over the synthesis worker, with progress callbacks.
+//   const c = await DeeprepClient.create({ modelBase: '../models/onnx', onProgress });
+//   const r = await c.synthesize({ keyFrames, keyChannels, frames, post: true, dna: [], method: 'model' });
+export class DeeprepClient {
+  static async create({ modelBase, workerUrl = new URL('./worker.js', import.meta.url), onProgress = () => {} } = {}) {
+    const c = new DeeprepClient();
+    c.worker = new Worker(workerUrl, { type: 'module' });
+    c.pending = new Map();
+    c.nextId = 1;
+    c.onProgress = onProgress;
+    const ready = new Promise((resolve, reject) => {
+      c.worker.onerror = (e) => reject(new Error(`worker failed to start: ${e.message || e.type}`));
+      c.worker.onmessage = (e) => {
+        const m = e.data;
+        if (m.type === 'ready') { resolve(m); return; }
+        if (m.type === 'progress') { c.onProgress(m); return; }
+        const p = c.pending.get(m.id);
+        if (!p) return;
+        c.pending.delete(m.id);
+        if (m.type === 'error') p.reject(new Error(m.message)); else p.resolve(m);
+      };
+    });
+    c.worker.postMessage({ type: 'init', modelBase });
+    const info = await ready;
+    c.skeletonBvh = info.skeletonBvh;
+    c.hasModel = info.hasModel;
+    c.modelError = info.modelError;
+    return c;
+  }
+
+  request(msg) {
+    const id = this.nextId++;
+    return new Promise((resolve, reject) => {
+      this.pending.set(id, { resolve, reject });
+      this.worker.postMessage({ ...msg, id });
+    });
+  }
+
+  synthesize(opts) { return this.request({ type: 'synthesize', ...opts }); }
+  rcAngles(channels, joint) { return this.request({ type: 'rcAngles', channels, joint }).then((m) => m.angles); }
+  setRcAngles(channels, joint, angles) { return this.request({ type: 'setRcAngles', channels, joint, angles }).then((m) => m.channels); }
+  terminate() { this.worker.terminate(); }
+}

@@ -1,0 +1,419 @@
+// The keyframe-sketching page. Synthesis runs in a Web Worker (client.js);
+// the main thread keeps the keys, draws, and never loses them on errors.
+// The view is a 2-D canvas projection (an interim viewer; the wgpu renderer
+// is a later step).
+import init, { BvhClip } from './pkg/deeprep.js';
+import { DeeprepClient } from './client.js';
+
+const MODEL_BASE = new URL('../models/onnx', import.meta.url).href;
+const EXAMPLES = new URL('../models/examples', import.meta.url).href;
+const $ = (id) => document.getElementById(id);
+
+const state = {
+  skeleton: null,      // { header, names, parents, channels }
+  library: [],         // [{ name, channels }]
+  keys: [],            // [{ frame, channels }], sorted by frame
+  length: 300,
+  frame: 0,
+  playing: false,
+  result: null,        // { positions, frames, bvh, method, times }
+  selected: -1,        // joint index
+  undo: [], redo: [],
+  cam: { yaw: 0.6, pitch: 0.35, dist: 520, target: [0, 80, 0] },
+  fkCache: new Map(),
+  client: null,
+};
+
+function setStatus(text, error = false) {
+  $('status').textContent = text;
+  $('status').classList.toggle('error', error);
+}
+
+// ---------------------------------------------------------------- skeleton
+function parseSkeleton(bvhText) {
+  const header = bvhText.slice(0, bvhText.indexOf('MOTION'));
+  const clip = BvhClip.parse(`${header}MOTION\nFrames: 0\nFrame Time: 0.0166667\n`);
+  const s = { header, names: clip.jointNames, parents: Array.from(clip.parents), channels: clip.channelCount };
+  clip.free();
+  return s;
+}
+
+function fk(channels) {
+  const k = channels.join(' ');
+  let p = state.fkCache.get(k);
+  if (!p) {
+    const clip = BvhClip.parse(`${state.skeleton.header}MOTION\nFrames: 1\nFrame Time: 0.0166667\n${k}\n`);
+    p = clip.fkPositions(0, 1);
+    clip.free();
+    if (state.fkCache.size > 500) state.fkCache.clear();
+    state.fkCache.set(k, p);
+  }
+  return p;
+}
+
+// ---------------------------------------------------------------- history
+function snapshot() { return JSON.stringify({ keys: state.keys, length: state.length }); }
+function pushHistory() { state.undo.push(snapshot()); state.redo.length = 0; if (state.undo.length > 200) state.undo.shift(); }
+function restore(s) { const o = JSON.parse(s); state.keys = o.keys; state.length = o.length; $('length').value = o.length; refreshTimeline(); draw(); }
+function undo() { if (!state.undo.length) return; state.redo.push(snapshot()); restore(state.undo.pop()); }
+function redo() { if (!state.redo.length) return; state.undo.push(snapshot()); restore(state.redo.pop()); }
+
+// ---------------------------------------------------------------- camera and drawing
+function camera(canvas) {
+  const { yaw, pitch, dist, target } = state.cam;
+  const eye = [target[0] + dist * Math.cos(pitch) * Math.sin(yaw), target[1] + dist * Math.sin(pitch), target[2] + dist * Math.cos(pitch) * Math.cos(yaw)];
+  const f = norm(sub(target, eye));
+  const r = norm(cross(f, [0, 1, 0]));
+  const u = cross(r, f);
+  const focal = canvas.height * 1.3;
+  return (p) => {
+    const d = sub(p, eye);
+    const z = dot(d, f);
+    if (z < 1) return null;
+    return [canvas.width / 2 + (focal * dot(d, r)) / z, canvas.height / 2 - (focal * dot(d, u)) / z, z];
+  };
+}
+const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+const norm = (a) => { const n = Math.hypot(...a) || 1; return [a[0] / n, a[1] / n, a[2] / n]; };
+
+function drawSkeleton(ctx, proj, pos, color, width, alpha) {
+  const J = state.skeleton.names.length;
+  ctx.globalAlpha = alpha;
+  ctx.strokeStyle = color;
+  ctx.lineCap = 'round';
+  for (let j = 1; j < J; j++) {
+    const p = state.skeleton.parents[j];
+    const a = proj([pos[3 * p], pos[3 * p + 1], pos[3 * p + 2]]);
+    const b = proj([pos[3 * j], pos[3 * j + 1], pos[3 * j + 2]]);
+    if (!a || !b) continue;
+    ctx.lineWidth = Math.max(1.5, (width * 500) / ((a[2] + b[2]) / 2));
+    ctx.beginPath(); ctx.moveTo(a[0], a[1]); ctx.lineTo(b[0], b[1]); ctx.stroke();
+  }
+  ctx.fillStyle = color;
+  for (let j = 0; j < J; j++) {
+    const a = proj([pos[3 * j], pos[3 * j + 1], pos[3 * j + 2]]);
+    if (!a) continue;
+    ctx.beginPath(); ctx.arc(a[0], a[1], j === state.selected ? 6 : 3, 0, 2 * Math.PI); ctx.fill();
+  }
+  ctx.globalAlpha = 1;
+}
+
+function currentPose() {
+  const J = state.skeleton.names.length;
+  if (state.result && state.frame < state.result.frames) {
+    return state.result.positions.subarray(state.frame * J * 3, (state.frame + 1) * J * 3);
+  }
+  const k = nearestKey(state.frame);
+  return k ? fk(k.channels) : null;
+}
+
+function nearestKey(frame) {
+  let best = null;
+  for (const k of state.keys) if (!best || Math.abs(k.frame - frame) < Math.abs(best.frame - frame)) best = k;
+  return best;
+}
+
+function draw() {
+  const canvas = $('view');
+  const ctx = canvas.getContext('2d');
+  ctx.fillStyle = '#0b0e11';
+  ctx.fillRect(0, 0, canvas.width, canvas.height);
+  if (!state.skeleton) return;
+  const proj = camera(canvas);
+  // ground grid
+  ctx.strokeStyle = '#1f2a36';
+  ctx.lineWidth = 1;
+  for (let i = -10; i <= 10; i++) {
+    for (const [a, b] of [[[i * 50, 0, -500], [i * 50, 0, 500]], [[-500, 0, i * 50], [500, 0, i * 50]]]) {
+      const pa = proj(a), pb = proj(b);
+      if (pa && pb) { ctx.beginPath(); ctx.moveTo(pa[0], pa[1]); ctx.lineTo(pb[0], pb[1]); ctx.stroke(); }
+    }
+  }
+  // root trajectory as dots on the ground (Fig. 1.2)
+  const J = state.skeleton.names.length;
+  if (state.result) {
+    for (let f = 0; f < state.result.frames; f += 3) {
+      const p = proj([state.result.positions[f * J * 3], 0, state.result.positions[f * J * 3 + 2]]);
+      if (!p) continue;
+      ctx.fillStyle = `hsl(${200 + (120 * f) / state.result.frames}, 70%, 60%)`;
+      ctx.fillRect(p[0] - 1.5, p[1] - 1.5, 3, 3);
+    }
+  }
+  // keyframe poses in a second colour
+  for (const k of state.keys) drawSkeleton(ctx, proj, fk(k.channels), '#ffa94d', 3, k.frame === state.frame ? 0.9 : 0.35);
+  const pose = currentPose();
+  if (pose) drawSkeleton(ctx, proj, pose, '#8fd0ff', 4, 1);
+  $('frame-label').textContent = `${state.frame} / ${state.length}`;
+}
+
+// ---------------------------------------------------------------- timeline and keys
+function refreshTimeline() {
+  state.keys.sort((a, b) => a.frame - b.frame);
+  $('scrub').max = String(state.length - 1);
+  const marks = $('keymarks');
+  marks.innerHTML = '';
+  for (const k of state.keys) {
+    const s = document.createElement('span');
+    s.style.left = `${(100 * k.frame) / Math.max(1, state.length - 1)}%`;
+    s.title = `key at frame ${k.frame}`;
+    s.onclick = () => setFrame(k.frame);
+    marks.appendChild(s);
+  }
+  $('keys-list').textContent = state.keys.length ? `keys at frames ${state.keys.map((k) => k.frame).join(', ')}` : 'no keys yet';
+}
+
+function setFrame(f) {
+  state.frame = Math.max(0, Math.min(state.length - 1, f | 0));
+  $('scrub').value = String(state.frame);
+  refreshJointEditor();
+  draw();
+}
+
+function keyAt(frame) { return state.keys.find((k) => k.frame === frame); }
+
+function addKey() {
+  const pose = state.library[$('pose').selectedIndex];
+  if (!pose) return;
+  pushHistory();
+  const existing = keyAt(state.frame);
+  if (existing) existing.channels = pose.channels.slice();
+  else state.keys.push({ frame: state.frame, channels: pose.channels.slice() });
+  refreshTimeline();
+  draw();
+}
+
+function deleteKey() {
+  const k = keyAt(state.frame);
+  if (!k) { setStatus(`no key at frame ${state.frame} to delete`, true); return; }
+  pushHistory();
+  state.keys = state.keys.filter((x) => x !== k);
+  refreshTimeline();
+  draw();
+}
+
+// ---------------------------------------------------------------- joint editing within RC ranges
+async function refreshJointEditor() {
+  const k = keyAt(state.frame);
+  const box = $('joint-edit');
+  if (!k || state.selected <= 0 || !state.client?.hasModel) { box.hidden = true; return; }
+  try {
+    const a = await state.client.rcAngles(k.channels, state.selected);
+    $('joint-name').textContent = state.skeleton.names[state.selected];
+    ['ax', 'ay', 'az'].forEach((id, i) => {
+      const el = $(id);
+      el.min = String(a[3 + 2 * i]); el.max = String(a[4 + 2 * i]); el.value = String(a[i]);
+      el.disabled = a[3 + 2 * i] === a[4 + 2 * i];
+    });
+    box.hidden = false;
+  } catch (e) {
+    box.hidden = true; // the root and End Sites have no RC angles
+  }
+}
+
+async function onAngleInput() {
+  const k = keyAt(state.frame);
+  if (!k || state.selected <= 0) return;
+  const angles = ['ax', 'ay', 'az'].map((id) => Number($(id).value));
+  try {
+    k.channels = await state.client.setRcAngles(k.channels, state.selected, angles);
+    draw();
+  } catch (e) { setStatus(`edit failed: ${e.message}`, true); }
+}
+
+// ---------------------------------------------------------------- synthesis
+function mulberry32(a) { return () => { a |= 0; a = (a + 0x6d2b79f5) | 0; let t = Math.imul(a ^ (a >>> 15), 1 | a); t = (t + Math.imul(t ^ (t >>> 7), 61 | t)) ^ t; return ((t ^ (t >>> 14)) >>> 0) / 4294967296; }; }
+
+function dnaChannels() {
+  const picked = [...$('dna').selectedOptions].map((o) => state.library[Number(o.value)]);
+  if (!picked.length && state.library.length) {
+    const rnd = mulberry32(Number($('seed').value) || 0);
+    const k = Math.max(1, Math.floor(state.length / 180));
+    for (let i = 0; i < k; i++) picked.push(state.library[Math.floor(rnd() * state.library.length)]);
+  }
+  return picked.flatMap((p) => p.channels);
+}
+
+async function synthesize() {
+  const length = Number($('length').value);
+  if (!Number.isInteger(length) || length < 1 || length > 4096) { setStatus('length must be 1..4096 frames', true); return; }
+  if (length !== state.length) { pushHistory(); state.length = length; refreshTimeline(); }
+  const keys = state.keys.filter((k) => k.frame < length);
+  if (!keys.length) { setStatus('add at least one keyframe first', true); return; }
+  const method = state.client.hasModel ? $('method').value : 'slerp';
+  $('synth').disabled = true;
+  $('progress').value = 0;
+  try {
+    const t0 = performance.now();
+    const r = await state.client.synthesize({
+      keyFrames: keys.map((k) => k.frame), keyChannels: keys.flatMap((k) => k.channels),
+      frames: length, post: $('post').checked, dna: dnaChannels(), method,
+    });
+    state.result = { positions: r.positions, frames: r.frames, bvh: r.bvh, method, times: r.times };
+    $('method-badge').textContent = method === 'slerp' ? 'SLERP+LERP interpolation baseline' : 'Generative Tweening model';
+    $('method-badge').classList.toggle('baseline', method === 'slerp');
+    const ms = performance.now() - t0;
+    $('timing').textContent = `${r.frames} frames in ${ms.toFixed(0)} ms` + (method === 'model' ? ` (generator ${r.times[0].toFixed(0)} ms, RC-FK ${r.times[1].toFixed(0)}, path ${r.times[2].toFixed(0)}, post ${r.times[3].toFixed(0)})` : '');
+    $('progress').value = 1;
+    $('progress-label').textContent = 'done';
+    document.body.dataset.synthesized = String(r.frames);
+    setStatus('ready');
+    draw();
+  } catch (e) {
+    setStatus(`synthesis failed: ${e.message} (your keys are unchanged)`, true);
+    $('progress-label').textContent = '';
+  } finally {
+    $('synth').disabled = false;
+  }
+}
+
+// ---------------------------------------------------------------- BVH import / export
+function exportBvh() {
+  if (!state.result) { setStatus('synthesize first: nothing to export yet', true); return; }
+  const a = document.createElement('a');
+  a.href = URL.createObjectURL(new Blob([state.result.bvh], { type: 'text/plain' }));
+  a.download = `deeprep-${state.result.frames}f.bvh`;
+  a.click();
+  setTimeout(() => URL.revokeObjectURL(a.href), 1000);
+}
+
+async function importBvh(file) {
+  try {
+    const clip = BvhClip.fromBytes(new Uint8Array(await file.arrayBuffer()));
+    const names = clip.jointNames;
+    if (names.length !== state.skeleton.names.length || names.some((n, i) => n !== state.skeleton.names[i])) {
+      clip.free();
+      throw new Error(`${file.name}: its skeleton (${names.length} joints) is not the model's (${state.skeleton.names.length} joints)`);
+    }
+    const c = clip.channelCount, m = clip.motion, step = Math.max(1, Math.round(0.5 / clip.frameTime));
+    let added = 0;
+    for (let f = 0; f < clip.frameCount; f += step) {
+      state.library.push({ name: `${file.name} @${f}`, channels: Array.from(m.subarray(f * c, (f + 1) * c)) });
+      added++;
+    }
+    state.result = { positions: clip.fkPositions(0, clip.frameCount), frames: clip.frameCount, bvh: clip.toBvh(), method: 'imported' };
+    $('method-badge').textContent = `imported ${file.name}`;
+    clip.free();
+    fillLibrary();
+    setStatus(`imported ${file.name}: ${added} poses added to the library`);
+    draw();
+  } catch (e) {
+    setStatus(`import failed: ${e.message}`, true);
+  }
+}
+
+function fillLibrary() {
+  for (const id of ['pose', 'dna']) {
+    const sel = $(id);
+    const keep = [...sel.selectedOptions].map((o) => o.value);
+    sel.innerHTML = '';
+    state.library.forEach((p, i) => { const o = new Option(p.name, String(i)); o.selected = keep.includes(String(i)); sel.add(o); });
+  }
+}
+
+// ---------------------------------------------------------------- input
+function wireInput() {
+  const canvas = $('view');
+  let drag = null;
+  const toCanvas = (e) => { const r = canvas.getBoundingClientRect(); return [((e.clientX - r.left) * canvas.width) / r.width, ((e.clientY - r.top) * canvas.height) / r.height]; };
+  canvas.addEventListener('mousedown', (e) => {
+    const [x, y] = toCanvas(e);
+    const pose = currentPose();
+    let hit = -1;
+    if (pose) {
+      const proj = camera(canvas);
+      let best = 14;
+      for (let j = 0; j < state.skeleton.names.length; j++) {
+        const p = proj([pose[3 * j], pose[3 * j + 1], pose[3 * j + 2]]);
+        if (p && Math.hypot(p[0] - x, p[1] - y) < best) { best = Math.hypot(p[0] - x, p[1] - y); hit = j; }
+      }
+    }
+    if (hit >= 0) { state.selected = hit; refreshJointEditor(); draw(); }
+    const k = keyAt(state.frame);
+    drag = { x, y, moveRoot: hit === 0 && !!k, pushed: false, pan: e.shiftKey };
+  });
+  window.addEventListener('mouseup', () => { drag = null; });
+  window.addEventListener('mousemove', (e) => {
+    if (!drag) return;
+    const [x, y] = toCanvas(e);
+    const dx = x - drag.x, dy = y - drag.y;
+    drag.x = x; drag.y = y;
+    if (drag.moveRoot) {
+      const k = keyAt(state.frame);
+      if (!drag.pushed) { pushHistory(); drag.pushed = true; }
+      const s = state.cam.dist / (canvas.height * 1.3);
+      const { yaw } = state.cam;
+      k.channels[0] += s * (dx * Math.cos(yaw) + dy * Math.sin(yaw));
+      k.channels[2] += s * (-dx * Math.sin(yaw) + dy * Math.cos(yaw));
+    } else if (drag.pan) {
+      const s = state.cam.dist / (canvas.height * 1.3);
+      state.cam.target[0] -= s * dx * Math.cos(state.cam.yaw);
+      state.cam.target[2] += s * dx * Math.sin(state.cam.yaw);
+      state.cam.target[1] += s * dy;
+    } else {
+      state.cam.yaw -= dx * 0.008;
+      state.cam.pitch = Math.max(-0.2, Math.min(1.4, state.cam.pitch + dy * 0.008));
+    }
+    draw();
+  });
+  canvas.addEventListener('wheel', (e) => { e.preventDefault(); state.cam.dist = Math.max(80, Math.min(3000, state.cam.dist * Math.exp(e.deltaY * 0.001))); draw(); }, { passive: false });
+  $('scrub').addEventListener('input', () => setFrame(Number($('scrub').value)));
+  $('play').addEventListener('click', () => { state.playing = !state.playing; $('play').textContent = state.playing ? '❚❚ Pause' : '▶ Play'; if (state.playing) tick(); });
+  $('add-key').addEventListener('click', addKey);
+  $('del-key').addEventListener('click', deleteKey);
+  $('undo').addEventListener('click', undo);
+  $('redo').addEventListener('click', redo);
+  $('synth').addEventListener('click', synthesize);
+  $('length').addEventListener('change', () => {
+    const n = Number($('length').value);
+    if (!Number.isInteger(n) || n < 1 || n > 4096) { setStatus('length must be 1..4096 frames', true); return; }
+    if (n !== state.length) { pushHistory(); state.length = n; refreshTimeline(); setFrame(state.frame); }
+  });
+  $('export').addEventListener('click', exportBvh);
+  $('import').addEventListener('change', (e) => { if (e.target.files[0]) importBvh(e.target.files[0]); });
+  for (const id of ['ax', 'ay', 'az']) {
+    $(id).addEventListener('pointerdown', () => pushHistory());
+    $(id).addEventListener('input', onAngleInput);
+  }
+  window.addEventListener('keydown', (e) => {
+    if ((e.ctrlKey || e.metaKey) && e.key === 'z') { e.preventDefault(); undo(); }
+    if ((e.ctrlKey || e.metaKey) && (e.key === 'y' || (e.shiftKey && e.key === 'Z'))) { e.preventDefault(); redo(); }
+  });
+}
+
+let last = 0;
+function tick(t = performance.now()) {
+  if (!state.playing) return;
+  if (t - last >= 1000 / 60 - 1) { last = t; setFrame((state.frame + 1) % state.length); }
+  requestAnimationFrame(tick);
+}
+
+// ---------------------------------------------------------------- start
+async function main() {
+  await init();
+  wireInput();
+  setStatus('loading models in a worker…');
+  state.client = await DeeprepClient.create({
+    modelBase: MODEL_BASE,
+    onProgress: (m) => { $('progress').value = m.fraction; $('progress-label').textContent = m.stage; },
+  });
+  if (!state.client.hasModel) throw new Error(`models unavailable (${state.client.modelError})`);
+  state.skeleton = parseSkeleton(state.client.skeletonBvh);
+  const [poses, keys] = await Promise.all([
+    fetch(`${EXAMPLES}/poses.json`).then((r) => r.json()),
+    fetch(`${EXAMPLES}/keys.json`).then((r) => r.json()),
+  ]);
+  state.library = poses.poses.map((p) => ({ name: p.name, channels: p.channels }));
+  state.keys = keys.keys.map((k) => ({ frame: k.frame, channels: k.channels }));
+  state.length = keys.frames;
+  $('length').value = String(keys.frames);
+  fillLibrary();
+  refreshTimeline();
+  setFrame(0);
+  await synthesize();
+  document.body.dataset.ready = '1';
+}
+
+main().catch((e) => { setStatus(`error: ${e.message}`, true); console.error(e); });
+window.deeprepState = state; // for tests and the console
