@@ -28,6 +28,14 @@ section "wasm: wasm-bindgen-test in headless Chromium"
 
 section "bench: in-betweening smoke run (one 512-frame synthesis; full run: bash scripts/bench.sh)"
 DEEPREP_BENCH_SMOKE=1 cargo test --bench inbetween
+node tests/web/bench_page.mjs --smoke
+
+section "npm package: wasm-pack, npm pack, install into a fresh Vite project, build"
+bash scripts/build-npm.sh
+bash tests/npm/vite_smoke.sh
+
+section "static site: web/dist"
+bash scripts/build-site.sh
 
 section "web: the page in headless Chromium (Playwright)"
 node --test tests/web/

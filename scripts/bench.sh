@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# Full benchmarks: in-betweening per stage natively (release) and in headless
+# Chromium (wasm), 512-4096 frames, with the SLERP+LERP baseline beside them.
+# Prints JSON. Assumes scripts/setup.sh has run.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+export PATH="$HOME/.cargo/bin:$PATH"
+cargo bench --bench inbetween
+bash scripts/build-wasm.sh >/dev/null
+node tests/web/bench_page.mjs

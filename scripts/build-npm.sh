@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# Builds the npm package `deeprep` with wasm-pack into pkg/ (ESM, --target
+# web, TypeScript types), adds the worker-backed client (client.js,
+# worker.js, client.d.ts), and packs it: pkg/deeprep-<version>.tgz.
+set -euo pipefail
+source "$(dirname "$0")/wasm-env.sh"
+cd "$ROOT"
+rm -rf pkg
+wasm-pack build crate --mode force --no-opt --target web --out-dir ../pkg --out-name deeprep --release -- "${WASM_CARGO_FLAGS[@]:2}"
+cp web/client.js pkg/client.js
+sed "s#'./pkg/deeprep.js'#'./deeprep.js'#" web/worker.js > pkg/worker.js
+cat > pkg/client.d.ts <<'TS'
+/** Progress of a synthesis request, posted by the worker. */
+export interface Progress { id: number; stage: string; fraction: number }
+/** A synthesized motion. */
+export interface SynthesisResult {
+  method: 'model' | 'slerp';
+  /** BVH text, 60 fps, the model's skeleton. */
+  bvh: string;
+  frames: number;
+  /** Global joint positions, frames x joints x 3. */
+  positions: Float32Array;
+  /** Milliseconds: generator, RC-FK, path, post-processing. */
+  times: number[];
+  /** Mean key errors: root and joints before post-processing, then after. */
+  keyError: number[];
+}
+export interface SynthesisRequest {
+  /** Sorted, unique key frames, each < frames, at most 600 apart. */
+  keyFrames: number[];
+  /** BVH channel rows of the model's skeleton, keys x channels. */
+  keyChannels: number[] | Float32Array;
+  frames: number;
+  post?: boolean;
+  /** Motion DNA poses as channel rows (may be empty). */
+  dna?: number[] | Float32Array;
+  method?: 'model' | 'slerp';
+}
+/** A Promise API over a Web Worker that runs the wasm in-betweening. */
+export class DeeprepClient {
+  static create(opts: { modelBase: string; workerUrl?: URL | string; onProgress?: (p: Progress) => void }): Promise<DeeprepClient>;
+  readonly skeletonBvh: string | null;
+  readonly hasModel: boolean;
+  readonly modelError?: string;
+  synthesize(req: SynthesisRequest): Promise<SynthesisResult>;
+  rcAngles(channels: number[], joint: number): Promise<number[]>;
+  setRcAngles(channels: number[], joint: number, angles: number[]): Promise<number[]>;
+  terminate(): void;
+}
+TS
+node -e '
+const fs = require("fs");
+const p = JSON.parse(fs.readFileSync("pkg/package.json", "utf8"));
+p.name = "deeprep";
+p.type = "module";
+p.files = [...new Set([...(p.files || []), "client.js", "client.d.ts", "worker.js"])];
+p.exports = { ".": { types: "./deeprep.d.ts", default: "./deeprep.js" }, "./client.js": { types: "./client.d.ts", default: "./client.js" }, "./worker.js": "./worker.js", "./deeprep_bg.wasm": "./deeprep_bg.wasm" };
+fs.writeFileSync("pkg/package.json", JSON.stringify(p, null, 2) + "\n");
+'
+(cd pkg && npm pack --silent >/dev/null)
+ls pkg/*.tgz

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Writes web/dist/: the pages, the wasm package and the models, laid out so
+# any static file server (or an offline copy) serves it:
+#   web/dist/index.html -> web/, web/dist/web/*, web/dist/models/{onnx,examples}
+#   scripts/build-site.sh           uses the current web/pkg (builds it if missing)
+#   scripts/build-site.sh --opt     rebuilds web/pkg with wasm-opt first
+set -euo pipefail
+cd "$(dirname "$0")/.."
+if [ "${1:-}" = "--opt" ] || [ ! -f web/pkg/deeprep_bg.wasm ]; then bash scripts/build-wasm.sh ${1:-}; fi
+rm -rf web/dist
+mkdir -p web/dist/web web/dist/models/onnx web/dist/models/examples
+cp web/*.html web/*.js web/dist/web/
+cp -r web/pkg web/dist/web/pkg
+cp models/onnx/*.onnx models/onnx/*.manifest.json web/dist/models/onnx/
+cp models/examples/*.json web/dist/models/examples/
+cat > web/dist/index.html <<'HTML'
+<!doctype html><meta charset="utf-8"><title>deeprep</title>
+<meta http-equiv="refresh" content="0; url=web/index.html"><a href="web/index.html">deeprep</a>
+HTML
+echo "web/dist: $(du -sh web/dist | cut -f1) in $(find web/dist -type f | wc -l) files"

@@ -1,0 +1,47 @@
+// In-betweening benchmark in headless Chromium (wasm, one thread): time per
+// stage for 512, 1024, 2048 and 4096 frames, and the SLERP+LERP baseline on
+// the same keys. Prints JSON. Usage: node tests/web/bench_page.mjs [--smoke]
+import { launch, startServer } from './chromium.mjs';
+
+const smoke = process.argv.includes('--smoke');
+const sizes = smoke ? [512] : [512, 1024, 2048, 4096];
+const server = await startServer();
+const browser = await launch();
+try {
+  const page = await browser.context.newPage();
+  await page.goto(`${server.url}/web/rotations.html`);
+  await page.waitForSelector('body[data-ready="1"]', { timeout: 120_000 });
+  const rows = await page.evaluate(async ({ sizes, reps }) => {
+    const m = await import('./pkg/deeprep.js');
+    const get = (u) => fetch(u).then((r) => r.arrayBuffer()).then((b) => new Uint8Array(b));
+    const model = new m.Inbetweener(await get('../models/onnx/tween_generator.onnx'), await get('../models/onnx/tween_path.onnx'),
+      await fetch('../models/onnx/tween_generator.manifest.json').then((r) => r.text()));
+    const poses = (await fetch('../models/examples/poses.json').then((r) => r.json())).poses;
+    const out = [];
+    for (const n of sizes) {
+      const frames = [], chans = [];
+      for (let f = 0, i = 0; f < n; f += 240, i++) { frames.push(f); const c = poses[i % poses.length].channels.slice(); c[0] = 30 * i; chans.push(...c); }
+      const kf = new Uint32Array(frames), kc = new Float32Array(chans);
+      let t = performance.now();
+      model.synthesize(kf, kc, n, true, new Float32Array()).free();
+      const first = performance.now() - t;
+      let best = null, bestTotal = Infinity;
+      for (let r = 0; r < reps; r++) {
+        t = performance.now();
+        const res = model.synthesize(kf, kc, n, true, new Float32Array());
+        const total = performance.now() - t;
+        if (total < bestTotal) { bestTotal = total; best = Array.from(res.times); }
+        res.free();
+      }
+      t = performance.now();
+      model.interpolate(kf, kc, n).free();
+      const slerp = performance.now() - t;
+      out.push({ frames: n, generator_ms: best[0], rcfk_ms: best[1], path_ms: best[2], post_ms: best[3], total_ms: bestTotal, first_call_ms: first, slerp_lerp_ms_with_bvh_and_fk: slerp });
+    }
+    return out;
+  }, { sizes, reps: smoke ? 1 : 3 });
+  console.log(JSON.stringify({ bench: 'inbetween', target: 'wasm (headless Chromium, SwiftShader, 1 thread)', rows }, null, 1));
+} finally {
+  await browser.close();
+  await server.close();
+}
