@@ -14,7 +14,7 @@ cp -r web/pkg web/dist/web/pkg
 cp models/onnx/*.onnx models/onnx/*.manifest.json web/dist/models/onnx/
 cp models/examples/*.json web/dist/models/examples/
 cat > web/dist/index.html <<'HTML'
-<!doctype html><meta charset="utf-8"><title>deeprep</title>
+<!doctype html><meta charset="utf-8"><title>deeprep</title><link rel="icon" href="data:,">
 <meta http-equiv="refresh" content="0; url=web/index.html"><a href="web/index.html">deeprep</a>
 HTML
 echo "web/dist: $(du -sh web/dist | cut -f1) in $(find web/dist -type f | wc -l) files"

@@ -54,18 +54,19 @@ def main():
 
     gpath = os.path.join(ONNX_DIR, "tween_generator.onnx")
     dense = torch.randn(1, 2 * P, 128, generator=g).abs()
+    dense_rot = torch.randn(1, 2 * fk.output_dim, 128, generator=g).abs()
     dna = torch.randn(1, 2, P, generator=g) * 0.3
-    torch.onnx.export(gen, (dense, dna), gpath, dynamo=False, opset_version=17, input_names=["dense", "dna"],
-                      output_names=["raw"], dynamic_axes={"dense": {2: "frames"}, "dna": {1: "dna_frames"}, "raw": {2: "frames"}})
+    torch.onnx.export(gen, (dense, dense_rot, dna), gpath, dynamo=False, opset_version=17, input_names=["dense", "dense_rot", "dna"],
+                      output_names=["raw"], dynamic_axes={"dense": {2: "frames"}, "dense_rot": {2: "frames"}, "dna": {1: "dna_frames"}, "raw": {2: "frames"}})
     ppath = os.path.join(ONNX_DIR, "tween_path.onnx")
     local = torch.randn(1, P, 128, generator=g) * 0.3
     torch.onnx.export(path, (local,), ppath, dynamo=False, opset_version=17, input_names=["local"],
                       output_names=["velocity"], dynamic_axes={"local": {2: "frames"}, "velocity": {2: "frames"}})
     with torch.no_grad():
-        g_out = gen(dense, dna).numpy()
+        g_out = gen(dense, dense_rot, dna).numpy()
         p_out = path(local).numpy()
     pg = fixture("tween_generator", ort.InferenceSession(gpath, providers=["CPUExecutionProvider"]),
-                 {"dense": dense.numpy(), "dna": dna.numpy()}, g_out)
+                 {"dense": dense.numpy(), "dense_rot": dense_rot.numpy(), "dna": dna.numpy()}, g_out)
     pp = fixture("tween_path", ort.InferenceSession(ppath, providers=["CPUExecutionProvider"]), {"local": local.numpy()}, p_out)
     print(f"parity torch vs onnxruntime: generator {pg:.3g}, path {pp:.3g}")
 
@@ -86,6 +87,7 @@ def main():
     write_json(os.path.join(ONNX_DIR, "tween_generator.manifest.json"), {
         "name": "tween_generator",
         "inputs": [{"name": "dense", "shape": [1, 2 * P, "frames"], "meaning": "dense keyframe input (Fig. 5.3): pose copies then distance transforms; frames a multiple of 64"},
+                   {"name": "dense_rot", "shape": [1, 2 * fk.output_dim, "frames"], "meaning": "the same dense format for whole-pose keys' raw RC-FK values (root 6D, atanh of range position, |v| <= 3); the output adds to the copied values"},
                    {"name": "dna", "shape": [1, "dna_frames", P], "meaning": "Motion DNA: representative local poses without root rotation, divided by scale"}],
         "outputs": [{"name": "raw", "shape": [1, fk.output_dim, "frames"], "meaning": "root 6D, then tanh-ranged Euler values per rotating joint (RC-FK)"}],
         "training": {"steps": gck["steps"], "batch": gck["args"]["batch"], "frames": gck["args"]["frames"],

@@ -21,10 +21,10 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from deeprep_train.rcfk import RCFK  # noqa: E402
 from deeprep_train.rotation import sixd_to_matrix  # noqa: E402
 from deeprep_train.tween import (SCALE, GAN_TARGET, Discriminator, Generator, PathPredictor,  # noqa: E402
-                                 dense_input, path_loss)
+                                 dense_input, path_loss, rc_to_raw)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-OUT = os.path.join(ROOT, "train", "cache", "tween")
+OUT = os.environ.get("TWEEN_OUT", os.path.join(ROOT, "train", "cache", "tween"))
 W = {"recon": 100.0, "key": 300.0, "root": 50.0, "gan": 1.0, "br": 5.0, "dna1": 50.0, "dna2": 50.0}
 
 
@@ -81,11 +81,14 @@ def sample_keys(n, rng):
     return keys
 
 
-def make_batch(data, b, n, rng):
+def make_batch(data, b, n, rng, fk):
     J = len(data.joints)
     P = J * 3
+    R = fk.output_dim
     pose = torch.zeros(b, n, P)
     mask = torch.zeros(b, n, P, dtype=torch.bool)
+    rpose = torch.zeros(b, n, R)
+    rmask = torch.zeros(b, n, R, dtype=torch.bool)
     local, root, rc, dna, keysets = [], [], [], [], []
     k_dna = max(1, n // 180)
     for i in range(b):
@@ -98,10 +101,13 @@ def make_batch(data, b, n, rng):
         frame_pose[:, 0, 0] -= ref[0]
         frame_pose[:, 0, 2] -= ref[1]
         frame_pose = frame_pose.reshape(n, P) / SCALE
+        raw_gt = rc_to_raw(r, fk.lo, fk.hi)
         for t in keys:
             u = rng.random()
             if u < 0.8:
                 m = torch.ones(P, dtype=torch.bool)
+                rpose[i, t] = raw_gt[t]
+                rmask[i, t] = True
             elif u < 0.9:  # root only
                 m = torch.zeros(P, dtype=torch.bool)
                 m[:3] = True
@@ -117,8 +123,8 @@ def make_batch(data, b, n, rng):
         idx = rep_frames(r, k_dna)
         dna.append(lam(lo[idx], r[idx, 3:9]).reshape(len(idx), P) / SCALE)
         keysets.append(keys)
-    return (dense_input(pose, mask, n), mask, torch.stack(dna), torch.stack(local), torch.stack(root),
-            torch.stack(rc), keysets)
+    return (dense_input(pose, mask, n), dense_input(rpose, rmask, n), mask, torch.stack(dna), torch.stack(local),
+            torch.stack(root), torch.stack(rc), keysets)
 
 
 def train_path(data, val, minutes, log, rng):
@@ -171,6 +177,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--data", default=os.path.join(ROOT, "train", "cache", "motion60.npz"))
     ap.add_argument("--path-minutes", type=float, default=6)
+    ap.add_argument("--path-ckpt", default=None, help="reuse a trained path predictor (path.pt) instead of training one")
     ap.add_argument("--gen-minutes", type=float, default=50)
     ap.add_argument("--frames", type=int, default=512)
     ap.add_argument("--batch", type=int, default=4)
@@ -192,7 +199,14 @@ def main():
     J = len(data.joints)
     P = J * 3
     fk = RCFK(data.joints, data.parents, data.offsets, data.channel_joints)
-    path, psteps = train_path(data, val, args.path_minutes, log, rng)
+    if args.path_ckpt:
+        ck = torch.load(args.path_ckpt)
+        path = PathPredictor(P)
+        path.load_state_dict(ck["model"])
+        path.eval()
+        psteps = ck["steps"]
+    else:
+        path, psteps = train_path(data, val, args.path_minutes, log, rng)
     table = path_table(path, val, np.random.default_rng(1))
     log({"stage": "path_eval_val", "steps": psteps, **table})
     for p in path.parameters():
@@ -206,8 +220,8 @@ def main():
     n, b = args.frames, args.batch
     t0, step = time.time(), 0
     while time.time() - t0 < args.gen_minutes * 60:
-        dense, mask, dna, local, root, rc, keysets = make_batch(data, b, n, rng)
-        raw = G(dense, dna).transpose(1, 2)                      # [B, N, out]
+        dense, dense_rot, mask, dna, local, root, rc, keysets = make_batch(data, b, n, rng, fk)
+        raw = G(dense, dense_rot, dna).transpose(1, 2)           # [B, N, out]
         gen = fk(raw, torch.zeros(b, n, 3))                      # [B, N, J, 3] local (root at 0)
         gen_s, gt_s = gen / SCALE, local / SCALE
         losses = {}

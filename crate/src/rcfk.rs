@@ -28,6 +28,9 @@ use crate::rotation::{cross, dot, from_cols, mul, mul_vec, norm, transpose, Mat3
 use crate::skeleton::{fk, Bvh};
 use serde::Deserialize;
 
+/// Bound on |v| when rotations are mapped back into the raw space.
+pub const V_CLIP: f64 = 3.0;
+
 /// Table D.1 as shipped with the crate.
 pub const TABLE_D1_JSON: &str = include_str!("../data/table_d1.json");
 
@@ -355,57 +358,91 @@ impl RcSkeleton {
             root_pos[1] - self.offsets[0][1],
             root_pos[2] - self.offsets[0][2],
         ];
+        let local: Vec<Mat3<f64>> = (0..bvh.joints.len()).map(local_of).collect();
         let mut angles = Vec::with_capacity(self.rotating.len());
         let mut excess = Vec::with_capacity(self.rotating.len());
-        for (k, &j) in self.rotating.iter().enumerate() {
-            let m = &self.frames[j];
-            let rl = mul(&mul(&transpose(m), &local_of(j)), m);
-            let o = self.orders[k];
-            let s = matrix_to_euler(&rl, o);
-            let pi = std::f64::consts::PI;
-            let wrap = |a: f64| {
-                if a > pi {
-                    a - 2.0 * pi
-                } else if a < -pi {
-                    a + 2.0 * pi
-                } else {
-                    a
-                }
-            };
-            let alt = [wrap(s[0] + pi), wrap(pi - s[1]), wrap(s[2] + pi)];
-            let by_axis = |seq: [f64; 3]| {
-                let mut u = [0.0; 3];
-                for (slot, ax) in o.axes.iter().enumerate() {
-                    u[*ax as usize] = seq[slot];
-                }
-                u
-            };
-            let measure = |u: [f64; 3]| {
-                let mut c = [0.0; 3];
-                let mut e = [0.0; 3];
-                for a in 0..3 {
-                    let [lo, hi] = self.ranges[k][a];
-                    c[a] = u[a].clamp(lo, hi);
-                    e[a] = (u[a] - c[a]).abs();
-                }
-                (c, e)
-            };
-            let (c1, e1) = measure(by_axis(s));
-            let (c2, e2) = measure(by_axis(alt));
-            let (c, e) = if e2.iter().sum::<f64>() < e1.iter().sum::<f64>() {
-                (c2, e2)
-            } else {
-                (c1, e1)
-            };
+        for k in 0..self.rotating.len() {
+            let (c, e) = self.angles_of(k, &local[self.rotating[k]]);
             angles.push(c);
             excess.push(e);
         }
         Ok(RcFrame {
-            root_6d: matrix_to_6d(&local_of(0)),
+            root_6d: matrix_to_6d(&local[0]),
             root_pos,
             angles,
             excess,
         })
+    }
+
+    /// The range-constrained angles `[ux, uy, uz]` (radians, clamped) of
+    /// rotating joint `k` whose local rotation (BVH joint frame) is `r`, and
+    /// how far each was outside its range. Of the two Euler solutions, the
+    /// one closer to the ranges is taken.
+    pub fn angles_of(&self, k: usize, r: &Mat3<f64>) -> ([f64; 3], [f64; 3]) {
+        let m = &self.frames[self.rotating[k]];
+        let rl = mul(&mul(&transpose(m), r), m);
+        let o = self.orders[k];
+        let s = matrix_to_euler(&rl, o);
+        let pi = std::f64::consts::PI;
+        let wrap = |a: f64| {
+            if a > pi {
+                a - 2.0 * pi
+            } else if a < -pi {
+                a + 2.0 * pi
+            } else {
+                a
+            }
+        };
+        let alt = [wrap(s[0] + pi), wrap(pi - s[1]), wrap(s[2] + pi)];
+        let by_axis = |seq: [f64; 3]| {
+            let mut u = [0.0; 3];
+            for (slot, ax) in o.axes.iter().enumerate() {
+                u[*ax as usize] = seq[slot];
+            }
+            u
+        };
+        let measure = |u: [f64; 3]| {
+            let mut c = [0.0; 3];
+            let mut e = [0.0; 3];
+            for a in 0..3 {
+                let [lo, hi] = self.ranges[k][a];
+                c[a] = u[a].clamp(lo, hi);
+                e[a] = (u[a] - c[a]).abs();
+            }
+            (c, e)
+        };
+        let (c1, e1) = measure(by_axis(s));
+        let (c2, e2) = measure(by_axis(alt));
+        if e2.iter().sum::<f64>() < e1.iter().sum::<f64>() {
+            (c2, e2)
+        } else {
+            (c1, e1)
+        }
+    }
+
+    /// The generator's raw space for a pose given by local rotations: root
+    /// 6D, then per rotating joint `v = atanh(2(u − α)/(β − α) − 1)` with
+    /// `|v| ≤ V_CLIP` (0 for zero-width ranges), `u` the clamped angles.
+    /// Mirrors `rc_to_raw` in train/deeprep_train/tween.py.
+    pub fn raw_from_rotations(&self, local: &[Mat3<f64>]) -> Vec<f32> {
+        let mut out = Vec::with_capacity(self.output_dim());
+        out.extend(matrix_to_6d(&local[0]).iter().map(|v| *v as f32));
+        let lim = V_CLIP.tanh();
+        for k in 0..self.rotating.len() {
+            let (u, _) = self.angles_of(k, &local[self.rotating[k]]);
+            for a in 0..3 {
+                let [lo, hi] = self.ranges[k][a];
+                let v = if hi > lo {
+                    (2.0 * (u[a] - lo) / (hi - lo) - 1.0)
+                        .clamp(-lim, lim)
+                        .atanh()
+                } else {
+                    0.0
+                };
+                out.push(v as f32);
+            }
+        }
+        out
     }
 
     /// Range violations per rotating joint over a whole clip.

@@ -219,3 +219,43 @@ fn rust_and_pytorch_rcfk_agree_to_1e_4() {
         "Rust vs PyTorch RC-FK max abs diff {worst} (BVH units)"
     );
 }
+
+#[test]
+fn raw_from_rotations_inverts_local_rotations_within_the_clip() {
+    let (bvh, table) = tiny();
+    let sk = RcSkeleton::new(&bvh, &parse_table(&table).unwrap()).unwrap();
+    let mut rng = Rng::new(9);
+    for _ in 0..500 {
+        // |v| < 2.5 stays inside the V_CLIP = 3 bound.
+        let mut raw: Vec<f32> = (0..sk.output_dim())
+            .map(|_| (rng.range(-2.5, 2.5)) as f32)
+            .collect();
+        let r6 = deeprep::rotation::sixd::matrix_to_6d(&deeprep::rotation::sample::uniform_so3::<
+            f64,
+        >(&mut rng));
+        for i in 0..6 {
+            raw[i] = r6[i] as f32;
+        }
+        let rots = sk.local_rotations(&raw).unwrap();
+        let back = sk.raw_from_rotations(&rots);
+        for (k, &j) in sk.rotating.iter().enumerate() {
+            for a in 0..3 {
+                let [lo, hi] = sk.ranges[k][a];
+                let i = 6 + 3 * k + a;
+                if hi > lo {
+                    assert!(
+                        (back[i] - raw[i]).abs() < 2e-3,
+                        "joint {j} axis {a}: {} vs {}",
+                        back[i],
+                        raw[i]
+                    );
+                } else {
+                    assert_eq!(back[i], 0.0);
+                }
+            }
+        }
+        for i in 0..6 {
+            assert!((back[i] - raw[i]).abs() < 1e-5);
+        }
+    }
+}

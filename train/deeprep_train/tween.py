@@ -13,6 +13,19 @@ SCALE = 100.0          # BVH units per network unit
 DT_NORM = 60.0         # distance transform in seconds (frames / 60) ...
 DT_CLIP = 600.0        # ... clipped at 10 s
 GAN_TARGET = 0.2361    # eq. 5.8
+VCLIP = 3.0            # |v| bound when key rotations are mapped back through tanh
+
+
+def rc_to_raw(rc, lo, hi):
+    """Range-constrained targets [..., 3 + 6 + 3K] (root position, root 6D, angles)
+    -> the generator's raw space [..., 6 + 3K]: root 6D, then v = atanh of each
+    angle's position in its range (|v| <= VCLIP; 0 for zero-width ranges).
+    Mirrors RcSkeleton::raw_from_rotations in crate/src/rcfk.rs."""
+    u = rc[..., 9:].reshape(*rc.shape[:-1], -1, 3)
+    span = hi - lo
+    s = torch.where(span > 0, 2 * (u - lo) / span.clamp(min=1e-9) - 1, torch.zeros_like(u))
+    v = torch.atanh(s.clamp(-math.tanh(VCLIP), math.tanh(VCLIP)))
+    return torch.cat([rc[..., 3:9], v.reshape(*rc.shape[:-1], -1)], -1)
 
 
 class ModResConv(nn.Module):
@@ -56,14 +69,17 @@ class DnaEncoder(nn.Module):
 
 
 class Generator(nn.Module):
-    """Dense keyframe input [B, 2P, N] + DNA frames [B, K, P] -> raw RC-FK values [B, out, N].
+    """Dense keyframe input [B, 2P, N], dense key rotations [B, 2R, N] (R = out_dim,
+    in the raw RC-FK space) and DNA frames [B, K, P] -> raw RC-FK values [B, R, N].
+    The output is the nearest key's raw rotation plus a learned correction.
     Encoder: an input conv and 6 stride-2 convs with modified residual convs;
     decoder: 6 transposed convs with modified residual convs, then an output conv."""
 
     def __init__(self, pose_dim: int, out_dim: int, widths=(96, 128, 160, 192, 224, 256), dna_dim: int = 64):
         super().__init__()
         w0 = widths[0]
-        self.inp = nn.Sequential(nn.Conv1d(2 * pose_dim, w0, 3, padding=1), nn.PReLU(w0))
+        self.out_dim = out_dim
+        self.inp = nn.Sequential(nn.Conv1d(2 * pose_dim + 2 * out_dim, w0, 3, padding=1), nn.PReLU(w0))
         enc, cin = [], w0
         sig_e = [0.5] * 6
         for i, w in enumerate(widths):
@@ -83,11 +99,11 @@ class Generator(nn.Module):
         nn.init.zeros_(self.out.bias)
         self.out.weight.data *= 0.1
 
-    def forward(self, dense, dna_frames):
-        z = self.enc(self.inp(dense))
+    def forward(self, dense, dense_rot, dna_frames):
+        z = self.enc(self.inp(torch.cat([dense, dense_rot], dim=1)))
         w = self.dna(dna_frames)
         z = torch.cat([z, w.unsqueeze(-1).expand(-1, -1, z.shape[-1])], dim=1)
-        return self.out(self.dec(z))
+        return dense_rot[:, : self.out_dim] + self.out(self.dec(z))
 
     def resconvs(self):
         return [m for m in self.modules() if isinstance(m, ModResConv)]

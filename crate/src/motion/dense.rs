@@ -39,18 +39,33 @@ pub fn key_pose(k: &Keyframe, reference: [f32; 2], norm: &Norm) -> Vec<f32> {
     p.iter().map(|v| v / norm.scale).collect()
 }
 
-/// Builds the dense input `[2P, frames]` (row-major: channel, then frame):
-/// per coordinate, the value at the nearest frame where it is given (ties go
-/// to the earlier frame), then the distance to it in frames / `dt_norm`,
-/// clipped at `dt_clip`. Coordinates no key gives are 0 with distance
-/// `dt_clip`.
+/// Builds the dense input `[2P, frames]` (row-major: channel, then frame)
+/// for keyframe positions: per coordinate, the value at the nearest frame
+/// where it is given (ties go to the earlier frame), then the distance to it
+/// in frames / `dt_norm`, clipped at `dt_clip`. Coordinates no key gives are
+/// 0 with distance `dt_clip`.
 pub fn dense_input(keys: &[Keyframe], frames: usize, norm: &Norm) -> Vec<f32> {
-    let p = keys.first().map_or(0, |k| k.positions.len());
     let reference = root_reference(keys);
-    let poses: Vec<Vec<f32>> = keys.iter().map(|k| key_pose(k, reference, norm)).collect();
+    let rows: Vec<(usize, Vec<f32>, Vec<bool>)> = keys
+        .iter()
+        .map(|k| (k.frame, key_pose(k, reference, norm), k.mask.clone()))
+        .collect();
+    let width = keys.first().map_or(0, |k| k.positions.len());
+    dense_channels(&rows, width, frames, norm)
+}
+
+/// The dense format for any per-frame vectors: `rows` are (frame, values,
+/// mask), sorted by frame, each `width` long. Returns `[2·width, frames]`.
+pub fn dense_channels(
+    rows: &[(usize, Vec<f32>, Vec<bool>)],
+    width: usize,
+    frames: usize,
+    norm: &Norm,
+) -> Vec<f32> {
+    let p = width;
     let mut out = vec![0.0f32; 2 * p * frames];
     for c in 0..p {
-        let given: Vec<usize> = (0..keys.len()).filter(|&i| keys[i].mask[c]).collect();
+        let given: Vec<usize> = (0..rows.len()).filter(|&i| rows[i].2[c]).collect();
         let (vals, dists) = out.split_at_mut(p * frames);
         let vrow = &mut vals[c * frames..(c + 1) * frames];
         let drow = &mut dists[c * frames..(c + 1) * frames];
@@ -59,23 +74,22 @@ pub fn dense_input(keys: &[Keyframe], frames: usize, norm: &Norm) -> Vec<f32> {
                 .for_each(|d| *d = norm.dt_clip / norm.dt_norm);
             continue;
         }
-        let mut g = 0; // index into `given` of the last key at or before t
+        let mut g = 0; // index into `given` of the last row at or before t
         for t in 0..frames {
-            while g + 1 < given.len() && keys[given[g + 1]].frame <= t {
+            while g + 1 < given.len() && rows[given[g + 1]].0 <= t {
                 g += 1;
             }
             let a = given[g];
-            let fa = keys[a].frame;
+            let fa = rows[a].0;
             let (src, dist) = if fa <= t {
-                // previous key is `a`; next is given[g + 1] if any
                 match given.get(g + 1) {
-                    Some(&b) if keys[b].frame - t < t - fa => (b, keys[b].frame - t),
+                    Some(&b) if rows[b].0 - t < t - fa => (b, rows[b].0 - t),
                     _ => (a, t - fa),
                 }
             } else {
-                (a, fa - t) // t is before every key that gives c
+                (a, fa - t) // t is before every row that gives c
             };
-            vrow[t] = poses[src][c];
+            vrow[t] = rows[src].1[c];
             drow[t] = (dist as f32).min(norm.dt_clip) / norm.dt_norm;
         }
     }

@@ -2,7 +2,7 @@
 //! dense input → generator (tract) → RC-FK → path predictor (tract) →
 //! integrated root path → post-processing → motion.
 
-use super::dense::{dense_input, Norm};
+use super::dense::{dense_channels, dense_input, Norm};
 use super::{post, validate_keys, Keyframe, Motion};
 use crate::error::{Error, Result};
 use crate::rcfk::{RcSkeleton, TableRow};
@@ -110,8 +110,8 @@ impl TweenModels {
         })
     }
 
-    /// Loads `tween_generator.onnx`, `tween_path.onnx` and the manifest from a folder.
-    #[cfg(not(target_arch = "wasm32"))]
+    /// Loads `tween_generator.onnx`, `tween_path.onnx` and the manifest from
+    /// a folder (native; in a browser, fetch the bytes and use [`Self::new`]).
     pub fn load_dir(dir: &std::path::Path) -> Result<Self> {
         let read = |n: &str| {
             std::fs::read(dir.join(n))
@@ -153,14 +153,28 @@ impl TweenModels {
         let n = req.frames.div_ceil(64).max(1) * 64;
         let t0 = now_ms();
         let dense = dense_input(&req.keys, n, &self.norm);
+        // Whole-pose keys with rotations also give the generator their raw
+        // RC-FK values (the output starts from the nearest key's).
+        let d = self.rc.output_dim();
+        let rot_rows: Vec<(usize, Vec<f32>, Vec<bool>)> = req
+            .keys
+            .iter()
+            .filter(|k| k.mask.iter().all(|m| *m))
+            .filter_map(|k| {
+                k.rotations
+                    .as_ref()
+                    .map(|r| (k.frame, self.rc.raw_from_rotations(r), vec![true; d]))
+            })
+            .collect();
+        let dense_rot = dense_channels(&rot_rows, d, n, &self.norm);
         let dna = self.dna(req)?;
         let k = dna.len() / p;
         let out = self.generator.run(&[
             TensorF32::new(dense, vec![1, 2 * p, n])?,
+            TensorF32::new(dense_rot, vec![1, 2 * d, n])?,
             TensorF32::new(dna, vec![1, k, p])?,
         ])?;
         let raw = &out[0];
-        let d = self.rc.output_dim();
         if raw.shape != [1, d, n] {
             return Err(Error::Model(format!(
                 "generator output {:?}, expected [1, {d}, {n}]",
