@@ -11,6 +11,11 @@
 //!
 //! The core is pure Rust with no web types, so it is tested natively.
 
+// `!(x > eps)` is deliberate throughout: unlike `x <= eps`, it also rejects NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+// Index loops mirror the equations they implement (rows, columns, axes).
+#![allow(clippy::needless_range_loop)]
+
 pub mod error;
 pub mod motion;
 pub mod rcfk;

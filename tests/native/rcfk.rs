@@ -1,3 +1,4 @@
+#![allow(clippy::needless_range_loop)]
 //! Range-Constrained FK (Sec. 5.2.3, Table D.1).
 
 use deeprep::rcfk::{local_frame, parse_table, RcSkeleton, TABLE_D1_JSON};

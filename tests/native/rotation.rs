@@ -1,3 +1,4 @@
+#![allow(clippy::needless_range_loop)]
 //! Rotation library tests (thesis ch. 4, app. C). Every test states its
 //! error bound; each one fails if a formula is wrong.
 

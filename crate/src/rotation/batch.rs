@@ -134,7 +134,7 @@ impl Repr {
 }
 
 fn batch_count(what: &str, len: usize, dim: usize) -> Result<usize> {
-    if len % dim != 0 {
+    if !len.is_multiple_of(dim) {
         return Err(Error::Shape {
             what: what.to_string(),
             expected: format!("a multiple of {dim} numbers"),

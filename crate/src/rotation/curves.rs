@@ -23,7 +23,7 @@ pub fn rotation_circle(repr: Repr, axis: Axis, steps: usize) -> Result<Vec<f32>>
 /// iteration on the covariance matrix (dim ≤ a few dozen), with signs fixed
 /// so the largest-magnitude loading is positive (a deterministic picture).
 pub fn pca_2d(points: &[f32], dim: usize) -> Vec<f32> {
-    let n = if dim == 0 { 0 } else { points.len() / dim };
+    let n = points.len().checked_div(dim).unwrap_or(0);
     if n == 0 {
         return Vec::new();
     }

@@ -206,7 +206,7 @@ pub fn generalized_cross<T: Real>(vs: &[Vec<T>]) -> Vec<T> {
                 }
             }
             let minor = det_rows(n - 1, m);
-            if (n - 1 + k) % 2 == 0 {
+            if (n - 1 + k).is_multiple_of(2) {
                 minor
             } else {
                 -minor

@@ -104,12 +104,10 @@ impl Bvh {
 
     /// Number of frames.
     pub fn frame_count(&self) -> usize {
-        let c = self.channel_count();
-        if c == 0 {
-            0
-        } else {
-            self.motion.len() / c
-        }
+        self.motion
+            .len()
+            .checked_div(self.channel_count())
+            .unwrap_or(0)
     }
 
     /// The channel values of one frame.
