@@ -8,8 +8,8 @@ every method, so every interval of g frames is one evaluation window.
 
 Metrics, on the frames strictly between keys:
   L2P   LaFAN1's: global positions (each window re-centred on its first
-        key's root x/z) normalized by the training set's per-coordinate
-        mean and std, L2 norm per frame, averaged.
+        key's root x/z) normalized by the per-coordinate mean and std of
+        training windows centred the same way, L2 norm per frame, averaged.
   L2Q   LaFAN1's: global joint quaternions (sign matched to the ground
         truth), L2 norm per frame, averaged.
   NPSS  LaFAN1's normalized power spectrum similarity on the global
@@ -153,9 +153,19 @@ def main():
     if not os.path.isdir(DATA):
         sys.exit(f"SKIP: {DATA} is absent")
     d = np.load(os.path.join(ROOT, "train", "cache", "motion60.npz"))
-    glob_train = d["train_local"] + d["train_root"][:, None, :]
-    glob_train[:, :, [0, 2]] -= d["train_root"][:, None, [0, 2]]
-    mu, sd = glob_train.reshape(len(glob_train), -1).mean(0), glob_train.reshape(len(glob_train), -1).std(0) + 1e-6
+    # Normalization statistics (LaFAN1's L2P): global positions of training
+    # windows, each re-centred on its first frame's root x/z like the
+    # evaluation windows.
+    glob = d["train_local"] + d["train_root"][:, None, :]
+    starts = np.concatenate([[0], np.cumsum(d["train_seg_len"])[:-1]])
+    chunks = []
+    for s0, ln in zip(starts, d["train_seg_len"]):
+        for a in range(s0, s0 + ln - 300, 150):
+            w = glob[a:a + 300].copy()
+            w[:, :, [0, 2]] -= glob[a, 0, [0, 2]]
+            chunks.append(w.reshape(300, -1))
+    flat = np.concatenate(chunks)
+    mu, sd = flat.mean(0), flat.std(0) + 1e-6
     acc = {(m, g): {"l2p": [], "l2q": [], "gt": [], "pred": [], "skate": [], "keyraw": [], "key": []} for m in METHODS for g in GAPS}
     gt_skate = []
     with tempfile.TemporaryDirectory() as tmp:

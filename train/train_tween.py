@@ -21,7 +21,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from deeprep_train.rcfk import RCFK  # noqa: E402
 from deeprep_train.rotation import sixd_to_matrix  # noqa: E402
 from deeprep_train.tween import (SCALE, GAN_TARGET, Discriminator, Generator, PathPredictor,  # noqa: E402
-                                 dense_input, path_loss, rc_to_raw)
+                                 dense_input, interp_channels, path_loss, rc_to_raw)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OUT = os.environ.get("TWEEN_OUT", os.path.join(ROOT, "train", "cache", "tween"))
@@ -123,7 +123,9 @@ def make_batch(data, b, n, rng, fk):
         idx = rep_frames(r, k_dna)
         dna.append(lam(lo[idx], r[idx, 3:9]).reshape(len(idx), P) / SCALE)
         keysets.append(keys)
-    return (dense_input(pose, mask, n), dense_input(rpose, rmask, n), mask, torch.stack(dna), torch.stack(local),
+    dense_rot = dense_input(rpose, rmask, n)
+    dense_rot[:, :R] = interp_channels(rpose, rmask).transpose(1, 2)
+    return (dense_input(pose, mask, n), dense_rot, mask, torch.stack(dna), torch.stack(local),
             torch.stack(root), torch.stack(rc), keysets)
 
 

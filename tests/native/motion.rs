@@ -305,3 +305,20 @@ fn the_model_pipeline_hits_keys_exactly_after_post_processing() {
         .to_string()
         .contains("Motion DNA"));
 }
+
+#[test]
+fn interpolated_channels_are_linear_between_keys_and_held_outside() {
+    use deeprep::motion::dense::interp_channels;
+    let rows = vec![
+        (2usize, vec![0.0f32, 5.0], vec![true, true]),
+        (6, vec![4.0, 9.0], vec![true, false]),
+    ];
+    let v = interp_channels(&rows, 2, 9);
+    assert_eq!(&v[0..9], &[0.0, 0.0, 0.0, 1.0, 2.0, 3.0, 4.0, 4.0, 4.0]);
+    assert!(
+        v[9..].iter().all(|x| *x == 5.0),
+        "a channel given once is held everywhere"
+    );
+    let none = interp_channels(&[(0usize, vec![1.0f32], vec![false])], 1, 3);
+    assert_eq!(none, vec![0.0; 3]);
+}

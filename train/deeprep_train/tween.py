@@ -71,7 +71,8 @@ class DnaEncoder(nn.Module):
 class Generator(nn.Module):
     """Dense keyframe input [B, 2P, N], dense key rotations [B, 2R, N] (R = out_dim,
     in the raw RC-FK space) and DNA frames [B, K, P] -> raw RC-FK values [B, R, N].
-    The output is the nearest key's raw rotation plus a learned correction.
+    The value half of dense_rot holds the keys' raw values linearly interpolated
+    between keys (interp_channels); the output is that plus a learned correction.
     Encoder: an input conv and 6 stride-2 convs with modified residual convs;
     decoder: 6 transposed convs with modified residual convs, then an output conv."""
 
@@ -182,3 +183,23 @@ def dense_input(pose, mask, n_frames):
     val = torch.where(none, torch.zeros_like(val), val)
     dist = torch.where(none, torch.full_like(dist, DT_CLIP), dist)
     return torch.cat([val, dist / DT_NORM], dim=2).transpose(1, 2)
+
+
+def interp_channels(values, mask):
+    """Per channel, linear interpolation between the previous and the next
+    frame where the channel is given (held before the first and after the
+    last; 0 where never given). values, mask: [B, N, R] -> [B, N, R].
+    Mirrors interp_channels in crate/src/motion/dense.rs."""
+    B, N, R = values.shape
+    idx = torch.arange(N).view(1, N, 1).expand(B, N, R)
+    big = 10 ** 9
+    prev = torch.cummax(torch.where(mask, idx, torch.full_like(idx, -big)), dim=1).values
+    nxt = torch.flip(torch.cummin(torch.flip(torch.where(mask, idx, torch.full_like(idx, big)), [1]), dim=1).values, [1])
+    has_p, has_n = prev >= 0, nxt < N
+    pa, nb = prev.clamp(0, N - 1), nxt.clamp(0, N - 1)
+    va, vb = torch.gather(values, 1, pa), torch.gather(values, 1, nb)
+    span = (nb - pa).clamp(min=1).float()
+    w = ((idx - pa).float() / span).clamp(0, 1)
+    both = has_p & has_n & (nb > pa)
+    out = torch.where(both, va + w * (vb - va), torch.where(has_p, va, torch.where(has_n, vb, torch.zeros_like(va))))
+    return out

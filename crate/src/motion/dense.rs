@@ -95,3 +95,39 @@ pub fn dense_channels(
     }
     out
 }
+
+/// Per channel, linear interpolation between the previous and the next row
+/// that gives the channel (held before the first and after the last; 0
+/// where no row gives it). Returns `[width, frames]`. Mirrors
+/// `interp_channels` in train/deeprep_train/tween.py.
+pub fn interp_channels(
+    rows: &[(usize, Vec<f32>, Vec<bool>)],
+    width: usize,
+    frames: usize,
+) -> Vec<f32> {
+    let mut out = vec![0.0f32; width * frames];
+    for c in 0..width {
+        let given: Vec<usize> = (0..rows.len()).filter(|&i| rows[i].2[c]).collect();
+        if given.is_empty() {
+            continue;
+        }
+        let row = &mut out[c * frames..(c + 1) * frames];
+        let mut g = 0;
+        for (t, v) in row.iter_mut().enumerate() {
+            while g + 1 < given.len() && rows[given[g + 1]].0 <= t {
+                g += 1;
+            }
+            let a = &rows[given[g]];
+            *v = if a.0 > t {
+                a.1[c] // before the first row
+            } else if let Some(&bi) = given.get(g + 1) {
+                let b = &rows[bi];
+                let w = (t - a.0) as f32 / (b.0 - a.0) as f32;
+                a.1[c] + w * (b.1[c] - a.1[c])
+            } else {
+                a.1[c] // after the last row
+            };
+        }
+    }
+    out
+}

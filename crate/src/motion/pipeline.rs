@@ -2,7 +2,7 @@
 //! dense input → generator (tract) → RC-FK → path predictor (tract) →
 //! integrated root path → post-processing → motion.
 
-use super::dense::{dense_channels, dense_input, Norm};
+use super::dense::{dense_channels, dense_input, interp_channels, Norm};
 use super::{post, validate_keys, Keyframe, Motion};
 use crate::error::{Error, Result};
 use crate::rcfk::{RcSkeleton, TableRow};
@@ -154,7 +154,7 @@ impl TweenModels {
         let t0 = now_ms();
         let dense = dense_input(&req.keys, n, &self.norm);
         // Whole-pose keys with rotations also give the generator their raw
-        // RC-FK values (the output starts from the nearest key's).
+        // RC-FK values (its output is their interpolation plus a correction).
         let d = self.rc.output_dim();
         let rot_rows: Vec<(usize, Vec<f32>, Vec<bool>)> = req
             .keys
@@ -166,7 +166,10 @@ impl TweenModels {
                     .map(|r| (k.frame, self.rc.raw_from_rotations(r), vec![true; d]))
             })
             .collect();
-        let dense_rot = dense_channels(&rot_rows, d, n, &self.norm);
+        // Values: the keys' raw values interpolated between keys; then the
+        // distance transform, as in the dense format.
+        let mut dense_rot = dense_channels(&rot_rows, d, n, &self.norm);
+        dense_rot[..d * n].copy_from_slice(&interp_channels(&rot_rows, d, n));
         let dna = self.dna(req)?;
         let k = dna.len() / p;
         let out = self.generator.run(&[
