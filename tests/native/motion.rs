@@ -322,3 +322,57 @@ fn interpolated_channels_are_linear_between_keys_and_held_outside() {
     let none = interp_channels(&[(0usize, vec![1.0f32], vec![false])], 1, 3);
     assert_eq!(none, vec![0.0; 3]);
 }
+
+#[test]
+fn dense_inputs_match_the_pytorch_training_code() {
+    // Written by train/make_dense_fixture.py from train/deeprep_train/tween.py.
+    use deeprep::motion::dense::{dense_channels, interp_channels};
+    let p = root().join("tests/fixtures/dense_torch.json");
+    let f: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap();
+    let floats = |v: &serde_json::Value| -> Vec<f32> {
+        v.as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap() as f32)
+            .collect()
+    };
+    let n = f["frames"].as_u64().unwrap() as usize;
+    let r = f["raw_width"].as_u64().unwrap() as usize;
+    let mut keys = Vec::new();
+    let mut rows = Vec::new();
+    for k in f["keys"].as_array().unwrap() {
+        let frame = k["frame"].as_u64().unwrap() as usize;
+        let mask: Vec<bool> = k["mask"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|b| b.as_bool().unwrap())
+            .collect();
+        keys.push(Keyframe {
+            frame,
+            positions: floats(&k["positions"]),
+            mask,
+            rotations: None,
+        });
+        if !k["raw"].is_null() {
+            rows.push((frame, floats(&k["raw"]), vec![true; r]));
+        }
+    }
+    let close = |a: &[f32], b: &[f32], what: &str| {
+        assert_eq!(a.len(), b.len(), "{what}");
+        let d = a
+            .iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0f32, f32::max);
+        assert!(d < 1e-5, "{what}: max abs diff {d}");
+    };
+    close(
+        &dense_input(&keys, n, &NORM),
+        &floats(&f["dense"]),
+        "dense keyframe input",
+    );
+    let mut drot = dense_channels(&rows, r, n, &NORM);
+    drot[..r * n].copy_from_slice(&interp_channels(&rows, r, n));
+    close(&drot, &floats(&f["dense_rot"]), "dense key rotations");
+}
