@@ -91,7 +91,7 @@ def main():
                    {"name": "dna", "shape": [1, "dna_frames", P], "meaning": "Motion DNA: representative local poses without root rotation, divided by scale"}],
         "outputs": [{"name": "raw", "shape": [1, fk.output_dim, "frames"], "meaning": "root 6D, then tanh-ranged Euler values per rotating joint (RC-FK)"}],
         "training": {"steps": gck["steps"], "batch": gck["args"]["batch"], "frames": gck["args"]["frames"],
-                     "loss_weights": W, "gan_target": GAN_TARGET, "last_log": last},
+                     "loss_weights": gck.get("weights", W), "gan_target": GAN_TARGET, "last_log": last},
         "parity_torch_vs_onnxruntime": pg, **common,
     })
     write_json(os.path.join(ONNX_DIR, "tween_path.manifest.json"), {

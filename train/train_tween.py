@@ -25,7 +25,9 @@ from deeprep_train.tween import (SCALE, GAN_TARGET, Discriminator, Generator, Pa
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OUT = os.environ.get("TWEEN_OUT", os.path.join(ROOT, "train", "cache", "tween"))
-W = {"recon": 100.0, "key": 300.0, "root": 50.0, "gan": 1.0, "br": 5.0, "dna1": 50.0, "dna2": 50.0}
+W = {"recon": 100.0, "vel": 100.0, "key": 300.0, "root": 50.0, "gan": 1.0, "br": 5.0, "dna1": 50.0, "dna2": 50.0}
+# DNA weights can be overridden (--dna-weight): at this training budget the
+# thesis' 50 lets the generator flash DNA poses in single frames (run 3).
 
 
 class Data:
@@ -185,9 +187,12 @@ def main():
     ap.add_argument("--batch", type=int, default=4)
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--dna-weight", type=float, default=None, help="weight of each DNA loss (thesis: 50)")
     args = ap.parse_args()
     torch.set_num_threads(args.threads)
     torch.manual_seed(args.seed)
+    if args.dna_weight is not None:
+        W["dna1"] = W["dna2"] = args.dna_weight
     rng = np.random.default_rng(args.seed)
     os.makedirs(OUT, exist_ok=True)
     logf = open(os.path.join(OUT, "log.jsonl"), "a")
@@ -228,6 +233,8 @@ def main():
         gen_s, gt_s = gen / SCALE, local / SCALE
         losses = {}
         losses["recon"] = ((gen_s - gt_s) ** 2).sum(-1).mean()
+        # velocity term (not in the thesis): frame-to-frame motion like the ground truth's
+        losses["vel"] = (((gen_s[:, 1:] - gen_s[:, :-1]) - (gt_s[:, 1:] - gt_s[:, :-1])) ** 2).sum(-1).mean() * 25.0
         kmask = mask.reshape(b, n, J, 3).clone()
         kmask[:, :, 0, :] = False
         losses["key"] = (((gen_s - gt_s) ** 2) * kmask).sum() / kmask.sum().clamp(min=1)
@@ -276,8 +283,8 @@ def main():
             log({"stage": "gen", "step": step, "sec": round(time.time() - t0), "total": total.item(), "D": ld.item(),
                  **{k: round(v.item(), 6) for k, v in losses.items()}})
         if step % 500 == 0:
-            torch.save({"G": G.state_dict(), "D": D.state_dict(), "steps": step, "args": vars(args)}, os.path.join(OUT, "gen.pt"))
-    torch.save({"G": G.state_dict(), "D": D.state_dict(), "steps": step, "args": vars(args)}, os.path.join(OUT, "gen.pt"))
+            torch.save({"G": G.state_dict(), "D": D.state_dict(), "steps": step, "args": vars(args), "weights": W}, os.path.join(OUT, "gen.pt"))
+    torch.save({"G": G.state_dict(), "D": D.state_dict(), "steps": step, "args": vars(args), "weights": W}, os.path.join(OUT, "gen.pt"))
     log({"stage": "done", "gen_steps": step, "path_steps": psteps})
 
 
