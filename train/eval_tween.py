@@ -33,6 +33,7 @@ import tempfile
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from bvh_io import read_hierarchy  # noqa: E402
 from data_pipeline import DATA, TRUE_FPS, VALIDATION, take_of  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -59,30 +60,11 @@ def resample(src, dst, step):
 
 
 def read_bvh(path):
-    """Names, parents, offsets, channel lists and the motion matrix."""
+    """Names, parents (-1 for the root), offsets, channel lists and the motion matrix."""
     text = open(path).read()
     head, motion = text.split("MOTION", 1)
-    names, parents, offsets, chans, stack, pending = [], [], [], [], [], None
-    for line in head.splitlines():
-        t = line.split()
-        if not t:
-            continue
-        if t[0] in ("ROOT", "JOINT"):
-            pending = t[1]
-        elif t[0] == "End":
-            pending = names[stack[-1]] + "_Nub"
-        elif t[0] == "{":
-            names.append(pending)
-            parents.append(stack[-1] if stack else -1)
-            offsets.append([0, 0, 0])
-            chans.append([])
-            stack.append(len(names) - 1)
-        elif t[0] == "}":
-            stack.pop()
-        elif t[0] == "OFFSET":
-            offsets[stack[-1]] = [float(x) for x in t[1:4]]
-        elif t[0] == "CHANNELS":
-            chans[stack[-1]] = t[2:]
+    names, parents, offsets, chans = read_hierarchy(head)
+    parents = [-1 if p is None else p for p in parents]
     rows = [x for x in motion.strip().splitlines()[2:] if x.strip()]
     data = np.array([[float(v) for v in r.split()] for r in rows], dtype=np.float64)
     return names, parents, np.array(offsets), chans, data
