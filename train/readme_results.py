@@ -17,12 +17,12 @@ npss_wins = [g for g in gaps if ev[f"model@{g}"]["NPSS"] < ev[f"slerp@{g}"]["NPS
 l2p_wins = [g for g in gaps if ev[f"model@{g}"]["L2P"] < ev[f"slerp@{g}"]["L2P"]]
 goal = len(npss_wins) == 4 and 30 in l2p_wins and 60 in l2p_wins
 verdict = ("beats SLERP+LERP on NPSS at every gap and on L2P at 30 and 60 frames" if goal else
-           f"**weak**: beats SLERP+LERP on NPSS at gaps {npss_wins or 'none'} and on L2P at gaps {l2p_wins or 'none'} (see below)")
+           f"**weak**: beats SLERP+LERP on NPSS at gaps: {', '.join(map(str, npss_wins)) or 'none'}; on L2P at gaps: {', '.join(map(str, l2p_wins)) or 'none'} (see below)")
 models = f"""<!-- models -->
 | file | trained on | quality |
 |---|---|---|
 | `rot6d_autoencoder.onnx` | {rot['training']['steps']:,} Adam steps × {rot['training']['batch']} rotations uniform on SO(3), {rot['training']['seconds']} s on one CPU thread (`train/tiny_rotation_mlp.py`) | geodesic error on 10⁵ held-out rotations: mean {rot['accuracy']['mean_deg']:.2f}°, max {rot['accuracy']['max_deg']:.2f}° (thesis Fig. 4.5c at width 128 and 500k steps: 0.49°, 1.98°) |
-| `tween_generator.onnx` | CMU train takes at 60 fps (59,290 frames; `train/data_pipeline.py`), {gen['training']['steps']:,} steps × {gen['training']['batch']} windows of {gen['training']['frames']} frames on one CPU thread (`train/train_tween.py`) | {verdict} |
+| `tween_generator.onnx` | CMU train takes at 60 fps (59,290 frames; `train/data_pipeline.py`), {gen['training']['steps']:,} steps × {gen['training']['batch']} windows of {gen['training']['frames']} frames on the 2-core CPU, 16 minutes (`train/train_tween.py`, run 4 of train/README.md) | {verdict} |
 | `tween_path.onnx` | the same frames, {path['training']['steps']:,} steps | Table 5.2's columns on validation windows: V1 {t52['V1']:.2f}, V8 {t52['V8']:.2f}, V32 {t52['V32']:.2f}, V128 {t52['V128']:.1f}, Y {t52['Y']:.2f} units (thesis: 0.7, 1.5, 2.8, 5.5, 1.8 cm) |
 <!-- /models -->"""
 rows = []
