@@ -188,6 +188,7 @@ def main():
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--dna-weight", type=float, default=None, help="weight of each DNA loss (thesis: 50)")
+    ap.add_argument("--resume", default=None, help="continue from a gen.pt checkpoint (generator and discriminator)")
     args = ap.parse_args()
     torch.set_num_threads(args.threads)
     torch.manual_seed(args.seed)
@@ -222,10 +223,16 @@ def main():
 
     G = Generator(P, fk.output_dim)
     D = Discriminator(P)
+    step0 = 0
+    if args.resume:
+        ck = torch.load(args.resume)
+        G.load_state_dict(ck["G"])
+        D.load_state_dict(ck["D"])
+        step0 = ck["steps"]
     og = torch.optim.Adam(G.parameters(), lr=2e-4, betas=(0.5, 0.99))
     od = torch.optim.Adam(D.parameters(), lr=1e-4, betas=(0.5, 0.99))
     n, b = args.frames, args.batch
-    t0, step = time.time(), 0
+    t0, step = time.time(), step0
     while time.time() - t0 < args.gen_minutes * 60:
         dense, dense_rot, mask, dna, local, root, rc, keysets = make_batch(data, b, n, rng, fk)
         raw = G(dense, dense_rot, dna).transpose(1, 2)           # [B, N, out]
