@@ -161,6 +161,11 @@ fn bad_requests_are_clear_errors() {
     let mut short = rot_key(1, &mut rng, 2);
     short.positions.pop();
     assert!(slerp_lerp(&[short], 10).is_err());
+    assert!(slerp_lerp(&[], 10)
+        .unwrap_err()
+        .to_string()
+        .contains("no keyframes"));
+    assert!(zero_velocity(&[], 10).is_err());
     let partial = key(1, &[0.0; 6], &[true, true, true, false, false, false]);
     assert!(slerp_lerp(&[partial], 10)
         .unwrap_err()

@@ -24,9 +24,25 @@ fn root(k: &Keyframe) -> [f64; 3] {
     ]
 }
 
+/// Validates the keys, then gives each frame the index of the most recent
+/// key at or before it (0 before the first key).
+fn last_key_per_frame(keys: &[Keyframe], frames: usize) -> Result<Vec<usize>> {
+    let joints = keys.first().map_or(0, |k| k.positions.len() / 3);
+    super::validate_keys(keys, frames, joints)?;
+    let mut seg = 0;
+    Ok((0..frames)
+        .map(|t| {
+            while seg + 1 < keys.len() && keys[seg + 1].frame <= t {
+                seg += 1;
+            }
+            seg
+        })
+        .collect())
+}
+
 /// SLERP+LERP between consecutive keys.
 pub fn slerp_lerp(keys: &[Keyframe], frames: usize) -> Result<Motion> {
-    super::validate_keys(keys, frames, keys[0].positions.len() / 3)?;
+    let segs = last_key_per_frame(keys, frames)?;
     let quats: Vec<Vec<[f64; 4]>> = keys
         .iter()
         .enumerate()
@@ -36,11 +52,7 @@ pub fn slerp_lerp(keys: &[Keyframe], frames: usize) -> Result<Motion> {
         root: Vec::with_capacity(frames),
         rotations: Vec::with_capacity(frames),
     };
-    let mut seg = 0;
-    for t in 0..frames {
-        while seg + 1 < keys.len() && keys[seg + 1].frame <= t {
-            seg += 1;
-        }
+    for (t, &seg) in segs.iter().enumerate() {
         let a = &keys[seg];
         if t <= a.frame || seg + 1 == keys.len() {
             m.root.push(root(a));
@@ -64,16 +76,12 @@ pub fn slerp_lerp(keys: &[Keyframe], frames: usize) -> Result<Motion> {
 
 /// Zero-velocity: every frame holds the most recent key.
 pub fn zero_velocity(keys: &[Keyframe], frames: usize) -> Result<Motion> {
-    super::validate_keys(keys, frames, keys[0].positions.len() / 3)?;
+    let segs = last_key_per_frame(keys, frames)?;
     let mut m = Motion {
         root: Vec::with_capacity(frames),
         rotations: Vec::with_capacity(frames),
     };
-    let mut seg = 0;
-    for t in 0..frames {
-        while seg + 1 < keys.len() && keys[seg + 1].frame <= t {
-            seg += 1;
-        }
+    for seg in segs {
         m.root.push(root(&keys[seg]));
         m.rotations.push(rotations(&keys[seg], seg)?.clone());
     }
