@@ -14,9 +14,12 @@
 //!
 //! The thesis fixes only the local z axis. Here local x is world X made
 //! perpendicular to z, except for bones that run along X (the arms), whose
-//! local y is world Y made perpendicular to z; the forearms instead take
-//! local x from world Z (the table's `frame` field, see [`FrameRule`]). The
-//! frames are right-handed.
+//! local y is world Y made perpendicular to z. The forearms take local y
+//! from the elbow's hinge axis, fitted to the CMU data by
+//! `train/fit_frames.py` (the table's `frame` field, see [`FrameRule`]):
+//! there the elbow is an exact hinge, so Table D.1's forearm ranges (no
+//! bending about x) hold to within 0.1° on average. The frames are
+//! right-handed.
 //!
 //! The ranges and orders are data (`crate/data/table_d1.json`, shared with
 //! the PyTorch layer in train/), not code branches.
@@ -53,9 +56,23 @@ pub struct TableRow {
     /// Intrinsic order, lower case as in the table ("xzy", "yxz").
     pub order: String,
     /// How the local x/y axes are chosen (this project's field, not the
-    /// thesis'): "x" (default) or "z"; see [`local_frame`].
+    /// thesis'): "x" (default), "z", or `{"y": [..]}` (an explicit local y,
+    /// the hinge axis fitted to the data); see [`FrameRule`].
     #[serde(default)]
-    pub frame: Option<String>,
+    pub frame: Option<FrameSpec>,
+}
+
+/// The `frame` field of a table row, as written in the JSON.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum FrameSpec {
+    /// A named rule: "x" or "z".
+    Rule(String),
+    /// An explicit local y axis in the joint's BVH coordinates.
+    Axis {
+        /// The axis; it is made perpendicular to the bone and normalized.
+        y: [f64; 3],
+    },
 }
 
 /// Parses a range table (the format of `table_d1.json`).
@@ -112,13 +129,16 @@ pub struct RcFrame {
 }
 
 /// How a joint's local x/y axes are picked around its bone axis z.
-#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[derive(Copy, Clone, Debug, PartialEq)]
 pub enum FrameRule {
     /// Local x is world X made perpendicular to z; for bones along X (|z·X| ≥
     /// 0.7), local y is world Y made perpendicular to z.
     WorldX,
     /// Local x is world Z (forward) made perpendicular to z.
     WorldZ,
+    /// Local y is the given axis made perpendicular to z (a hinge axis fitted
+    /// to the data, `train/fit_frames.py`); local x = y × z.
+    AxisY([f64; 3]),
 }
 
 /// The local frame `M_lw` of a joint whose child bones have mean direction
@@ -141,6 +161,13 @@ pub fn local_frame_with(d: [f64; 3], rule: FrameRule) -> Mat3<f64> {
         let m = norm(&v);
         [v[0] / m, v[1] / m, v[2] / m]
     };
+    if let FrameRule::AxisY(a) = rule {
+        let y = perp(a);
+        if y.iter().all(|v| v.is_finite()) {
+            let x = cross(&y, &z);
+            return from_cols(x, y, z);
+        }
+    }
     if rule == FrameRule::WorldZ && z[2].abs() < 0.7 {
         let x = perp([0.0, 0.0, 1.0]);
         let y = cross(&z, &x);
@@ -174,12 +201,16 @@ impl RcSkeleton {
             match table
                 .iter()
                 .find(|r| r.joint == name)
-                .and_then(|r| r.frame.as_deref())
+                .and_then(|r| r.frame.as_ref())
             {
-                None | Some("x") => Ok(FrameRule::WorldX),
-                Some("z") => Ok(FrameRule::WorldZ),
+                None => Ok(FrameRule::WorldX),
+                Some(FrameSpec::Rule(r)) if r == "x" => Ok(FrameRule::WorldX),
+                Some(FrameSpec::Rule(r)) if r == "z" => Ok(FrameRule::WorldZ),
+                Some(FrameSpec::Axis { y }) if y.iter().all(|v| v.is_finite()) => {
+                    Ok(FrameRule::AxisY(*y))
+                }
                 Some(other) => Err(Error::Invalid(format!(
-                    "RC-FK: joint '{name}' has unknown frame rule '{other}' (x or z)"
+                    "RC-FK: joint '{name}' has an unknown frame rule {other:?} (\"x\", \"z\" or {{\"y\": [x, y, z]}})"
                 ))),
             }
         };

@@ -20,8 +20,11 @@ def load_table(path: str = TABLE_PATH) -> dict:
     return {r["joint"]: r for r in json.load(open(path))["joints"]}
 
 
-def local_frame(d, rule: str = "x") -> torch.Tensor:
-    """M_lw (columns x, y, z) for a joint whose child bones have mean direction d."""
+def local_frame(d, rule="x") -> torch.Tensor:
+    """M_lw (columns x, y, z) for a joint whose child bones have mean direction d.
+
+    rule: "x" (default), "z", or {"y": [..]}: an explicit local y (a hinge axis
+    fitted to the data by train/fit_frames.py), with x = y cross z."""
     d = torch.tensor(d, dtype=torch.float64)
     n = d.norm()
     if n < 1e-9:
@@ -33,6 +36,10 @@ def local_frame(d, rule: str = "x") -> torch.Tensor:
         v = r - (r @ z) * z
         return v / v.norm()
 
+    if isinstance(rule, dict):
+        y = perp(rule["y"])
+        x = torch.linalg.cross(y, z)
+        return torch.stack([x, y, z], dim=1)
     if rule == "z" and abs(z[2]) < 0.7:
         x = perp([0.0, 0.0, 1.0])
         y = torch.linalg.cross(z, x)
