@@ -5,6 +5,11 @@
 //!
 //! Modules, one per concept:
 //! - [`rotation`]: rotation representations (chapter 4, appendix C).
+//! - [`skeleton`]: BVH reading/writing and forward kinematics.
+//! - [`rcfk`]: range-constrained forward kinematics (Sec. 5.2.3, Table D.1).
+//! - [`motion`]: keyframe in-betweening (chapter 5).
+//! - [`ik`]: inverse kinematics from joint positions (Sec. 4.4.3).
+//! - [`viewer`]: the wgpu renderer (WebGPU, WebGL2, headless natively).
 //! - [`runtime`]: ONNX models run by tract.
 //! - [`rng`]: a deterministic seeded random generator.
 //! - `wasm` (wasm32 only): the thin wasm-bindgen layer.
@@ -17,12 +22,14 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod error;
+pub mod ik;
 pub mod motion;
 pub mod rcfk;
 pub mod rng;
 pub mod rotation;
 pub mod runtime;
 pub mod skeleton;
+pub mod viewer;
 
 #[cfg(target_arch = "wasm32")]
 pub mod wasm;

@@ -1,0 +1,149 @@
+//! What the viewer draws, as plain data: skeletons, a ground grid, the root
+//! trajectory, and (for the hair and mesh systems) line strips and triangle
+//! meshes. The renderer reads a [`Scene`]; it never owns app state.
+
+use super::camera::OrbitCamera;
+
+/// One skeleton pose: global joint positions and parents.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SkeletonPose {
+    /// Global joint positions.
+    pub positions: Vec<[f32; 3]>,
+    /// Parent per joint (`None` for roots).
+    pub parents: Vec<Option<usize>>,
+    /// RGBA, linear.
+    pub color: [f32; 4],
+    /// Joint sphere radius (world units).
+    pub joint_radius: f32,
+    /// Bone radius (world units).
+    pub bone_radius: f32,
+}
+
+impl SkeletonPose {
+    /// A pose with default radii for the CMU skeleton's units.
+    pub fn new(positions: Vec<[f32; 3]>, parents: Vec<Option<usize>>, color: [f32; 4]) -> Self {
+        SkeletonPose {
+            positions,
+            parents,
+            color,
+            joint_radius: 2.2,
+            bone_radius: 1.6,
+        }
+    }
+}
+
+/// Line strips (hair strands: `strip_len` points each), drawn unlit.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LineStrips {
+    /// Points, strip after strip.
+    pub points: Vec<[f32; 3]>,
+    /// Points per strip.
+    pub strip_len: usize,
+    /// RGBA, linear.
+    pub color: [f32; 4],
+}
+
+/// A triangle mesh in one color, drawn lit with flat normals.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TriMesh {
+    /// Vertex positions.
+    pub positions: Vec<[f32; 3]>,
+    /// Triangles, three vertex indices each.
+    pub indices: Vec<u32>,
+    /// RGBA, linear.
+    pub color: [f32; 4],
+}
+
+/// The ground grid at y = `height`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Grid {
+    /// Half the grid's width.
+    pub extent: f32,
+    /// Spacing between lines.
+    pub step: f32,
+    /// Height of the ground.
+    pub height: f32,
+}
+
+impl Default for Grid {
+    fn default() -> Self {
+        Grid {
+            extent: 600.0,
+            step: 50.0,
+            height: 0.0,
+        }
+    }
+}
+
+/// Everything drawn in one frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    /// Skeletons: the current pose and, in a second color, keyframe poses.
+    pub skeletons: Vec<SkeletonPose>,
+    /// Root trajectory, drawn as dots on the ground (Fig. 1.2's style).
+    pub trajectory: Vec<[f32; 3]>,
+    /// Color of the trajectory dots.
+    pub trajectory_color: [f32; 4],
+    /// The ground grid, if any.
+    pub grid: Option<Grid>,
+    /// Line strips (hair).
+    pub strips: Vec<LineStrips>,
+    /// Triangle meshes.
+    pub meshes: Vec<TriMesh>,
+    /// Background color.
+    pub background: [f32; 4],
+}
+
+impl Default for Scene {
+    fn default() -> Self {
+        Scene {
+            skeletons: Vec::new(),
+            trajectory: Vec::new(),
+            trajectory_color: [0.35, 0.55, 0.95, 1.0],
+            grid: Some(Grid::default()),
+            strips: Vec::new(),
+            meshes: Vec::new(),
+            background: [0.08, 0.09, 0.11, 1.0],
+        }
+    }
+}
+
+/// Colors used by the sketching page.
+pub mod colors {
+    /// The synthesized pose.
+    pub const POSE: [f32; 4] = [0.85, 0.87, 0.92, 1.0];
+    /// Keyframe poses (the thesis' pink).
+    pub const KEY: [f32; 4] = [0.95, 0.45, 0.65, 1.0];
+    /// The selected joint.
+    pub const SELECTED: [f32; 4] = [1.0, 0.8, 0.2, 1.0];
+}
+
+/// The joint under a pixel: `(skeleton, joint)` of the nearest joint whose
+/// sphere (radius × `slack`) the pixel's ray hits, or `None`.
+pub fn pick_joint(
+    scene: &Scene,
+    camera: &OrbitCamera,
+    x: f32,
+    y: f32,
+    width: f32,
+    height: f32,
+    slack: f32,
+) -> Option<(usize, usize)> {
+    let (o, d) = camera.ray(x, y, width, height);
+    let mut best: Option<(f32, usize, usize)> = None;
+    for (s, sk) in scene.skeletons.iter().enumerate() {
+        let r = sk.joint_radius * slack;
+        for (j, p) in sk.positions.iter().enumerate() {
+            let c = glam::Vec3::from(*p);
+            let t = (c - o).dot(d);
+            if t <= 0.0 {
+                continue;
+            }
+            let miss = (o + d * t - c).length();
+            if miss <= r && best.is_none_or(|b| t < b.0) {
+                best = Some((t, s, j));
+            }
+        }
+    }
+    best.map(|b| (b.1, b.2))
+}

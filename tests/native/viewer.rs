@@ -1,0 +1,156 @@
+//! The viewer: camera math and picking (pure), and a headless render of a
+//! skeleton scene through wgpu (lavapipe or any adapter the machine has).
+
+use deeprep::viewer::headless::Headless;
+use deeprep::viewer::scene::colors;
+use deeprep::viewer::{pick_joint, OrbitCamera, Scene, SkeletonPose};
+
+/// A stick figure of the project's own: hip, spine, head, two arms, two legs.
+fn figure(dx: f32) -> (Vec<[f32; 3]>, Vec<Option<usize>>) {
+    let p = vec![
+        [dx, 95.0, 0.0],         // 0 hip
+        [dx, 130.0, 0.0],        // 1 chest
+        [dx, 160.0, 0.0],        // 2 head
+        [dx - 20.0, 140.0, 0.0], // 3 l shoulder
+        [dx - 45.0, 115.0, 5.0], // 4 l hand
+        [dx + 20.0, 140.0, 0.0], // 5 r shoulder
+        [dx + 45.0, 115.0, 5.0], // 6 r hand
+        [dx - 10.0, 50.0, 0.0],  // 7 l knee
+        [dx - 12.0, 5.0, 0.0],   // 8 l foot
+        [dx + 10.0, 50.0, 0.0],  // 9 r knee
+        [dx + 12.0, 5.0, 0.0],   // 10 r foot
+    ];
+    let parents = vec![
+        None,
+        Some(0),
+        Some(1),
+        Some(1),
+        Some(3),
+        Some(1),
+        Some(5),
+        Some(0),
+        Some(7),
+        Some(0),
+        Some(9),
+    ];
+    (p, parents)
+}
+
+fn scene() -> Scene {
+    let (p, par) = figure(0.0);
+    let (k, kpar) = figure(-120.0);
+    let mut s = Scene::default();
+    s.skeletons.push(SkeletonPose::new(p, par, colors::POSE));
+    s.skeletons.push(SkeletonPose::new(k, kpar, colors::KEY));
+    s.trajectory = (0..40).map(|i| [-120.0 + 3.0 * i as f32, 0.0, 0.0]).collect();
+    s
+}
+
+#[test]
+fn projection_and_rays_agree() {
+    let mut cam = OrbitCamera::default();
+    cam.orbit(0.3, -0.1);
+    for p in [[0.0, 90.0, 0.0], [40.0, 10.0, -30.0], [-100.0, 150.0, 60.0]] {
+        let s = cam.project(p, 800.0, 600.0).unwrap();
+        let (o, d) = cam.ray(s[0], s[1], 800.0, 600.0);
+        let t = (glam::Vec3::from(p) - o).dot(d);
+        let miss = (o + d * t - glam::Vec3::from(p)).length();
+        assert!(miss < 1e-2, "ray through the projection misses by {miss}");
+    }
+    cam.orbit(0.0, 10.0);
+    assert!(cam.pitch < 1.56, "pitch is clamped below 90 degrees");
+    let d = cam.distance;
+    cam.zoom(2.0);
+    assert!((cam.distance - 2.0 * d).abs() < 1e-3);
+    cam.zoom(f32::NAN);
+    assert!((cam.distance - 2.0 * d).abs() < 1e-3, "NaN zoom is ignored");
+    let before = cam.target;
+    cam.pan(100.0, 0.0, 600.0);
+    assert!((cam.target - before).length() > 1.0);
+}
+
+#[test]
+fn framing_keeps_every_point_on_screen() {
+    let mut cam = OrbitCamera::default();
+    let (p, _) = figure(300.0);
+    cam.frame(&p);
+    for q in &p {
+        let s = cam.project(*q, 640.0, 480.0).unwrap();
+        assert!(s[0] > 0.0 && s[0] < 640.0 && s[1] > 0.0 && s[1] < 480.0, "{q:?} -> {s:?}");
+    }
+}
+
+#[test]
+fn picking_finds_the_joint_under_the_cursor() {
+    let s = scene();
+    let cam = OrbitCamera::default();
+    for (sk, j) in [(0, 2), (0, 6), (1, 8)] {
+        let q = cam
+            .project(s.skeletons[sk].positions[j], 800.0, 600.0)
+            .unwrap();
+        assert_eq!(
+            pick_joint(&s, &cam, q[0], q[1], 800.0, 600.0, 1.5),
+            Some((sk, j))
+        );
+    }
+    assert_eq!(pick_joint(&s, &cam, 2.0, 2.0, 800.0, 600.0, 1.5), None);
+}
+
+#[test]
+fn headless_render_draws_the_scene() {
+    let mut h = Headless::new().expect("a wgpu adapter (setup.sh installs Mesa's lavapipe)");
+    eprintln!("adapter: {}", h.adapter);
+    let s = scene();
+    let mut cam = OrbitCamera::default();
+    let mut pts: Vec<[f32; 3]> = s.skeletons.iter().flat_map(|k| k.positions.clone()).collect();
+    pts.extend(&s.trajectory);
+    cam.frame(&pts);
+    let (w, h_px) = (320u32, 240u32);
+    let img = h.render(&s, &cam, w, h_px).unwrap();
+    assert_eq!(img.len(), (w * h_px * 4) as usize);
+    let bg = s.background.map(|c| (c * 255.0).round() as i32);
+    let px = |i: usize| [img[i] as i32, img[i + 1] as i32, img[i + 2] as i32];
+    let mut drawn = 0;
+    let mut pink = 0;
+    let mut light = 0;
+    for i in (0..img.len()).step_by(4) {
+        let [r, g, b] = px(i);
+        if (r - bg[0]).abs() + (g - bg[1]).abs() + (b - bg[2]).abs() > 30 {
+            drawn += 1;
+        }
+        if r > 120 && r > g + 50 && b > g {
+            pink += 1;
+        }
+        if r > 120 && g > 120 && b > 120 && (r - g).abs() < 30 {
+            light += 1;
+        }
+    }
+    let n = (w * h_px) as usize;
+    eprintln!("drawn {drawn}, key-colored {pink}, pose-colored {light} of {n} pixels");
+    assert!(drawn > n / 50, "too little drawn: {drawn}");
+    assert!(pink > 100, "the key pose (second color) is missing: {pink}");
+    assert!(light > 100, "the current pose is missing: {light}");
+    // The same scene without skeletons draws far less.
+    let mut empty = s.clone();
+    empty.skeletons.clear();
+    let img2 = h.render(&empty, &cam, w, h_px).unwrap();
+    let drawn2 = (0..img2.len())
+        .step_by(4)
+        .filter(|&i| {
+            (img2[i] as i32 - bg[0]).abs()
+                + (img2[i + 1] as i32 - bg[1]).abs()
+                + (img2[i + 2] as i32 - bg[2]).abs()
+                > 30
+        })
+        .count();
+    assert!(drawn2 < drawn, "{drawn2} vs {drawn}");
+    // A PPM beside the build output, for eyes.
+    let out = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("viewer_headless.ppm");
+    let mut ppm = format!("P6\n{w} {h_px}\n255\n").into_bytes();
+    for i in (0..img.len()).step_by(4) {
+        ppm.extend_from_slice(&img[i..i + 3]);
+    }
+    std::fs::write(&out, ppm).unwrap();
+    eprintln!("wrote {}", out.display());
+    assert!(h.render(&s, &cam, 0, 10).is_err());
+}
