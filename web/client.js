@@ -37,6 +37,8 @@ export class DeeprepClient {
   }
 
   synthesize(opts) { return this.request({ type: 'synthesize', ...opts }); }
+  /** IK from joint positions: `positions` is frames x joints x 3 (global, the skeleton's joint order). */
+  ik(positions, frames) { return this.request({ type: 'ik', positions: Array.from(positions), frames }); }
   rcAngles(channels, joint) { return this.request({ type: 'rcAngles', channels, joint }).then((m) => m.angles); }
   setRcAngles(channels, joint, angles) { return this.request({ type: 'setRcAngles', channels, joint, angles }).then((m) => m.channels); }
   terminate() { this.worker.terminate(); }

@@ -1,8 +1,9 @@
 // The keyframe-sketching page. Synthesis runs in a Web Worker (client.js);
 // the main thread keeps the keys, draws, and never loses them on errors.
-// The view is a 2-D canvas projection (an interim viewer; the wgpu renderer
-// is a later step).
-import init, { BvhClip } from './pkg/deeprep.js';
+// The view is the crate's wgpu renderer (WebGPU, or WebGL2 as the fallback;
+// `?webgl2` forces WebGL2); a 2-D canvas projection remains as the last
+// resort when neither is available (`?view=2d` forces it).
+import init, { BvhClip, Viewer } from './pkg/deeprep.js';
 import { DeeprepClient } from './client.js';
 
 const MODEL_BASE = new URL('../models/onnx', import.meta.url).href;
@@ -22,6 +23,7 @@ const state = {
   cam: { yaw: 0.6, pitch: 0.35, dist: 520, target: [0, 80, 0] },
   fkCache: new Map(),
   client: null,
+  view: null,          // see createView()
 };
 
 function setStatus(text, error = false) {
@@ -78,7 +80,7 @@ const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
 const norm = (a) => { const n = Math.hypot(...a) || 1; return [a[0] / n, a[1] / n, a[2] / n]; };
 
-function drawSkeleton(ctx, proj, pos, color, width, alpha) {
+function drawSkeleton(ctx, proj, pos, color, width, alpha, selected) {
   const J = state.skeleton.names.length;
   ctx.globalAlpha = alpha;
   ctx.strokeStyle = color;
@@ -95,7 +97,7 @@ function drawSkeleton(ctx, proj, pos, color, width, alpha) {
   for (let j = 0; j < J; j++) {
     const a = proj([pos[3 * j], pos[3 * j + 1], pos[3 * j + 2]]);
     if (!a) continue;
-    ctx.beginPath(); ctx.arc(a[0], a[1], j === state.selected ? 6 : 3, 0, 2 * Math.PI); ctx.fill();
+    ctx.beginPath(); ctx.arc(a[0], a[1], j === selected ? 6 : 3, 0, 2 * Math.PI); ctx.fill();
   }
   ctx.globalAlpha = 1;
 }
@@ -115,37 +117,157 @@ function nearestKey(frame) {
   return best;
 }
 
-function draw() {
-  const canvas = $('view');
-  const ctx = canvas.getContext('2d');
-  ctx.fillStyle = '#0b0e11';
-  ctx.fillRect(0, 0, canvas.width, canvas.height);
-  if (!state.skeleton) return;
-  const proj = camera(canvas);
-  // ground grid
-  ctx.strokeStyle = '#1f2a36';
-  ctx.lineWidth = 1;
-  for (let i = -10; i <= 10; i++) {
-    for (const [a, b] of [[[i * 50, 0, -500], [i * 50, 0, 500]], [[-500, 0, i * 50], [500, 0, i * 50]]]) {
-      const pa = proj(a), pb = proj(b);
-      if (pa && pb) { ctx.beginPath(); ctx.moveTo(pa[0], pa[1]); ctx.lineTo(pb[0], pb[1]); ctx.stroke(); }
-    }
-  }
-  // root trajectory as dots on the ground (Fig. 1.2)
+function trajectory() {
+  if (!state.result) return new Float32Array(0);
   const J = state.skeleton.names.length;
-  if (state.result) {
-    for (let f = 0; f < state.result.frames; f += 3) {
-      const p = proj([state.result.positions[f * J * 3], 0, state.result.positions[f * J * 3 + 2]]);
-      if (!p) continue;
-      ctx.fillStyle = `hsl(${200 + (120 * f) / state.result.frames}, 70%, 60%)`;
-      ctx.fillRect(p[0] - 1.5, p[1] - 1.5, 3, 3);
+  const out = [];
+  for (let f = 0; f < state.result.frames; f += 3) out.push(state.result.positions[f * J * 3], 0, state.result.positions[f * J * 3 + 2]);
+  return new Float32Array(out);
+}
+
+function draw() {
+  if (!state.view) return;
+  if (state.view.lost && state.view.lost()) { replaceLostView(); return; }
+  $('frame-label').textContent = `${state.frame} / ${state.length}`;
+  if (!state.skeleton) return;
+  const keys = state.keys.map((k) => fk(k.channels));
+  state.view.draw({ pose: currentPose(), keys, trajectory: trajectory(), selected: state.selected });
+}
+
+// ---------------------------------------------------------------- views
+// Both views offer: name, draw(scene), pick(x, y) -> joint | -1, orbit, pan,
+// zoom, groundDelta(x0, y0, x1, y1) -> [dx, dz], frame().
+function gpuView(viewer, canvas) {
+  let parentsSet = false;
+  return {
+    name: viewer.backend,
+    draw({ pose, keys, trajectory, selected }) {
+      if (!parentsSet) { viewer.setParents(Int32Array.from(state.skeleton.parents.map((p) => (p == null ? -1 : p)))); parentsSet = true; }
+      const flatKeys = new Float32Array(keys.length * (keys[0] ? keys[0].length : 0));
+      keys.forEach((k, i) => flatKeys.set(k, i * k.length));
+      viewer.setSelected(selected);
+      viewer.setPoses(pose ? Float32Array.from(pose) : new Float32Array(0), flatKeys);
+      viewer.setTrajectory(trajectory);
+      viewer.resize(canvas.width, canvas.height);
+      viewer.render();
+    },
+    pick: (x, y) => viewer.pickJoint(x, y),
+    orbit: (dx, dy) => viewer.orbit(dx, dy),
+    pan: (dx, dy) => viewer.pan(dx, dy),
+    zoom: (f) => viewer.zoom(f),
+    groundDelta(x0, y0, x1, y1) {
+      const a = viewer.groundPoint(x0, y0), b = viewer.groundPoint(x1, y1);
+      return a.length && b.length ? [b[0] - a[0], b[2] - a[2]] : [0, 0];
+    },
+    frame() { viewer.frame(); },
+    lost: () => viewer.deviceLost,
+    // RGBA pixels of the view, read right after drawing.
+    async pixels() { draw(); return readCanvas(canvas); },
+  };
+}
+
+// A lost GPU device (a GPU reset; or headless Chromium, whose SwiftShader
+// WebGPU cannot present a canvas) falls back to WebGL2 on a fresh canvas.
+let replacing = null;
+function replaceLostView() {
+  if (replacing) return;
+  replacing = (async () => {
+    console.warn(`the ${state.view.name} device was lost; switching to WebGL2`);
+    const old = $('view');
+    const fresh = old.cloneNode(true);
+    old.replaceWith(fresh);
+    try {
+      state.view = gpuView(await Viewer.create(fresh, true), fresh);
+    } catch (e) {
+      console.warn(`WebGL2 unavailable too, using the 2-D canvas: ${e.message}`);
+      state.view = canvasView(fresh);
+    }
+    state.view.lost = state.view.lost || (() => false);
+    wireCanvas(fresh);
+    document.body.dataset.view = state.view.name;
+    $('view-badge').textContent = viewLabel(state.view.name);
+    state.view.frame();
+    replacing = null;
+    draw();
+  })();
+}
+
+function viewLabel(name) {
+  return { webgpu: 'WebGPU', webgl2: 'WebGL2', '2d': '2-D canvas (no WebGPU or WebGL2)' }[name] || name;
+}
+
+function readCanvas(canvas) {
+  const o = document.createElement('canvas');
+  o.width = canvas.width; o.height = canvas.height;
+  const x = o.getContext('2d');
+  x.drawImage(canvas, 0, 0);
+  return x.getImageData(0, 0, o.width, o.height).data;
+}
+
+function canvasView(canvas) {
+  const ctx = canvas.getContext('2d');
+  const cam = state.cam;
+  const scale = () => cam.dist / (canvas.height * 1.3);
+  return {
+    name: '2d',
+    draw({ pose, keys, trajectory: traj, selected }) {
+      ctx.fillStyle = '#0b0e11';
+      ctx.fillRect(0, 0, canvas.width, canvas.height);
+      const proj = camera(canvas);
+      ctx.strokeStyle = '#1f2a36';
+      ctx.lineWidth = 1;
+      for (let i = -10; i <= 10; i++) {
+        for (const [a, b] of [[[i * 50, 0, -500], [i * 50, 0, 500]], [[-500, 0, i * 50], [500, 0, i * 50]]]) {
+          const pa = proj(a), pb = proj(b);
+          if (pa && pb) { ctx.beginPath(); ctx.moveTo(pa[0], pa[1]); ctx.lineTo(pb[0], pb[1]); ctx.stroke(); }
+        }
+      }
+      for (let i = 0; i < traj.length; i += 3) {
+        const p = proj([traj[i], 0, traj[i + 2]]);
+        if (!p) continue;
+        ctx.fillStyle = `hsl(${200 + (120 * i) / traj.length}, 70%, 60%)`;
+        ctx.fillRect(p[0] - 1.5, p[1] - 1.5, 3, 3);
+      }
+      keys.forEach((k, i) => drawSkeleton(ctx, proj, k, '#f273a6', 3, state.keys[i].frame === state.frame ? 0.9 : 0.35, -1));
+      if (pose) drawSkeleton(ctx, proj, pose, '#8fd0ff', 4, 1, selected);
+    },
+    pick(x, y) {
+      const pose = currentPose();
+      if (!pose) return -1;
+      const proj = camera(canvas);
+      let best = 14, hit = -1;
+      for (let j = 0; j < state.skeleton.names.length; j++) {
+        const p = proj([pose[3 * j], pose[3 * j + 1], pose[3 * j + 2]]);
+        if (p && Math.hypot(p[0] - x, p[1] - y) < best) { best = Math.hypot(p[0] - x, p[1] - y); hit = j; }
+      }
+      return hit;
+    },
+    orbit(dx, dy) { cam.yaw -= dx * 0.008; cam.pitch = Math.max(-0.2, Math.min(1.4, cam.pitch + dy * 0.008)); },
+    pan(dx, dy) { const s = scale(); cam.target[0] -= s * dx * Math.cos(cam.yaw); cam.target[2] += s * dx * Math.sin(cam.yaw); cam.target[1] += s * dy; },
+    zoom(f) { cam.dist = Math.max(80, Math.min(3000, cam.dist * f)); },
+    groundDelta(x0, y0, x1, y1) {
+      const s = scale(), dx = x1 - x0, dy = y1 - y0, { yaw } = cam;
+      return [s * (dx * Math.cos(yaw) + dy * Math.sin(yaw)), s * (-dx * Math.sin(yaw) + dy * Math.cos(yaw))];
+    },
+    frame() {},
+    async pixels() { return ctx.getImageData(0, 0, canvas.width, canvas.height).data; },
+  };
+}
+
+async function createView() {
+  const params = new URLSearchParams(location.search);
+  let canvas = $('view');
+  if (params.get('view') !== '2d') {
+    try {
+      return gpuView(await Viewer.create(canvas, params.has('webgl2')), canvas);
+    } catch (e) {
+      console.warn(`wgpu viewer unavailable, using the 2-D canvas: ${e.message}`);
+      const fresh = canvas.cloneNode(true); // a canvas that holds a GPU context cannot give a 2-D one
+      canvas.replaceWith(fresh);
+      canvas = fresh;
     }
   }
-  // keyframe poses in a second colour
-  for (const k of state.keys) drawSkeleton(ctx, proj, fk(k.channels), '#ffa94d', 3, k.frame === state.frame ? 0.9 : 0.35);
-  const pose = currentPose();
-  if (pose) drawSkeleton(ctx, proj, pose, '#8fd0ff', 4, 1);
-  $('frame-label').textContent = `${state.frame} / ${state.length}`;
+  return canvasView(canvas);
 }
 
 // ---------------------------------------------------------------- timeline and keys
@@ -298,6 +420,8 @@ async function importBvh(file) {
     fillLibrary();
     setStatus(`imported ${file.name}: ${added} poses added to the library`);
     draw();
+    state.view.frame();
+    draw();
   } catch (e) {
     setStatus(`import failed: ${e.message}`, true);
   }
@@ -313,51 +437,42 @@ function fillLibrary() {
 }
 
 // ---------------------------------------------------------------- input
-function wireInput() {
-  const canvas = $('view');
-  let drag = null;
-  const toCanvas = (e) => { const r = canvas.getBoundingClientRect(); return [((e.clientX - r.left) * canvas.width) / r.width, ((e.clientY - r.top) * canvas.height) / r.height]; };
+let drag = null;
+const toCanvas = (e) => { const c = $('view'); const r = c.getBoundingClientRect(); return [((e.clientX - r.left) * c.width) / r.width, ((e.clientY - r.top) * c.height) / r.height]; };
+
+// Listeners on the view canvas (again on a replacement canvas).
+function wireCanvas(canvas) {
   canvas.addEventListener('mousedown', (e) => {
     const [x, y] = toCanvas(e);
-    const pose = currentPose();
-    let hit = -1;
-    if (pose) {
-      const proj = camera(canvas);
-      let best = 14;
-      for (let j = 0; j < state.skeleton.names.length; j++) {
-        const p = proj([pose[3 * j], pose[3 * j + 1], pose[3 * j + 2]]);
-        if (p && Math.hypot(p[0] - x, p[1] - y) < best) { best = Math.hypot(p[0] - x, p[1] - y); hit = j; }
-      }
-    }
+    const hit = currentPose() ? state.view.pick(x, y) : -1;
     if (hit >= 0) { state.selected = hit; refreshJointEditor(); draw(); }
     const k = keyAt(state.frame);
     drag = { x, y, moveRoot: hit === 0 && !!k, pushed: false, pan: e.shiftKey };
   });
+  canvas.addEventListener('wheel', (e) => { e.preventDefault(); state.view.zoom(Math.exp(e.deltaY * 0.001)); draw(); }, { passive: false });
+}
+
+function wireInput() {
+  wireCanvas($('view'));
   window.addEventListener('mouseup', () => { drag = null; });
   window.addEventListener('mousemove', (e) => {
     if (!drag) return;
     const [x, y] = toCanvas(e);
     const dx = x - drag.x, dy = y - drag.y;
-    drag.x = x; drag.y = y;
     if (drag.moveRoot) {
       const k = keyAt(state.frame);
       if (!drag.pushed) { pushHistory(); drag.pushed = true; }
-      const s = state.cam.dist / (canvas.height * 1.3);
-      const { yaw } = state.cam;
-      k.channels[0] += s * (dx * Math.cos(yaw) + dy * Math.sin(yaw));
-      k.channels[2] += s * (-dx * Math.sin(yaw) + dy * Math.cos(yaw));
+      const [gx, gz] = state.view.groundDelta(drag.x, drag.y, x, y);
+      k.channels[0] += gx;
+      k.channels[2] += gz;
     } else if (drag.pan) {
-      const s = state.cam.dist / (canvas.height * 1.3);
-      state.cam.target[0] -= s * dx * Math.cos(state.cam.yaw);
-      state.cam.target[2] += s * dx * Math.sin(state.cam.yaw);
-      state.cam.target[1] += s * dy;
+      state.view.pan(dx, dy);
     } else {
-      state.cam.yaw -= dx * 0.008;
-      state.cam.pitch = Math.max(-0.2, Math.min(1.4, state.cam.pitch + dy * 0.008));
+      state.view.orbit(dx, dy);
     }
+    drag.x = x; drag.y = y;
     draw();
   });
-  canvas.addEventListener('wheel', (e) => { e.preventDefault(); state.cam.dist = Math.max(80, Math.min(3000, state.cam.dist * Math.exp(e.deltaY * 0.001))); draw(); }, { passive: false });
   $('scrub').addEventListener('input', () => setFrame(Number($('scrub').value)));
   $('play').addEventListener('click', () => { state.playing = !state.playing; $('play').textContent = state.playing ? '❚❚ Pause' : '▶ Play'; if (state.playing) tick(); });
   $('add-key').addEventListener('click', addKey);
@@ -392,6 +507,9 @@ function tick(t = performance.now()) {
 // ---------------------------------------------------------------- start
 async function main() {
   await init();
+  state.view = await createView();
+  document.body.dataset.view = state.view.name;
+  $('view-badge').textContent = viewLabel(state.view.name);
   wireInput();
   setStatus('loading models in a worker…');
   state.client = await DeeprepClient.create({
@@ -411,7 +529,14 @@ async function main() {
   fillLibrary();
   refreshTimeline();
   setFrame(0);
+  state.view.frame();
+  draw();
   await synthesize();
+  // A GPU device that is lost right after its first frames (see
+  // replaceLostView) is replaced before the page reports ready.
+  await new Promise((r) => setTimeout(r, 200));
+  draw();
+  if (replacing) await replacing;
   document.body.dataset.ready = '1';
 }
 

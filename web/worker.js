@@ -5,9 +5,12 @@
 //   -> {type: 'synthesize', id, keyFrames, keyChannels, frames, post, dna, method}
 //   <- {type: 'progress', id, stage, fraction}  ...  {type: 'result', id, ...} | {type: 'error', id, message}
 //   -> {type: 'rcAngles', id, channels, joint} / {type: 'setRcAngles', id, channels, joint, angles}
-import init, { Inbetweener } from './pkg/deeprep.js';
+//   -> {type: 'ik', id, positions, frames}   (IK from joint positions; the IK model loads on first use)
+import init, { Inbetweener, IkSolver } from './pkg/deeprep.js';
 
 let model = null;
+let modelBase = null;
+let ik = null;
 
 async function fetchBytes(url) {
   const r = await fetch(url);
@@ -18,6 +21,7 @@ async function fetchBytes(url) {
 async function handleInit(msg) {
   await init();
   const base = msg.modelBase;
+  modelBase = base;
   try {
     const [g, p, m] = await Promise.all([
       fetchBytes(`${base}/tween_generator.onnx`), fetchBytes(`${base}/tween_path.onnx`),
@@ -28,6 +32,25 @@ async function handleInit(msg) {
   } catch (e) {
     postMessage({ type: 'ready', skeletonBvh: null, hasModel: false, modelError: String(e.message || e) });
   }
+}
+
+async function handleIk(msg) {
+  const { id } = msg;
+  if (!ik) {
+    postMessage({ type: 'progress', id, stage: 'loading the IK model', fraction: 0.1 });
+    const [bytes, manifest] = await Promise.all([
+      fetchBytes(`${modelBase}/ik.onnx`),
+      fetch(`${modelBase}/ik.manifest.json`).then((r) => { if (!r.ok) throw new Error(`ik manifest: HTTP ${r.status}`); return r.text(); }),
+    ]);
+    ik = new IkSolver(bytes, manifest);
+  }
+  postMessage({ type: 'progress', id, stage: 'solving IK', fraction: 0.5 });
+  const r = ik.solve(new Float32Array(msg.positions), msg.frames);
+  const positions = r.positions;
+  const channels = r.channels;
+  postMessage({ type: 'result', id, bvh: r.bvh, channels, positions, meanError: r.meanError, maxError: r.maxError },
+              [positions.buffer, channels.buffer]);
+  r.free();
 }
 
 function handle(msg) {
@@ -58,6 +81,7 @@ onmessage = async (e) => {
   const msg = e.data;
   try {
     if (msg.type === 'init') await handleInit(msg);
+    else if (msg.type === 'ik') await handleIk(msg);
     else handle(msg);
   } catch (err) {
     postMessage({ type: 'error', id: msg.id, message: String(err && err.message ? err.message : err) });

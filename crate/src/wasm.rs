@@ -7,6 +7,17 @@ use crate::rotation::euler::Axis;
 use crate::runtime::{Model, TensorF32};
 use wasm_bindgen::prelude::*;
 
+/// Sends Rust panic messages to the browser console (a panic is a bug: the
+/// API returns `Error`s for bad input).
+fn install_panic_hook() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        std::panic::set_hook(Box::new(|info| {
+            web_sys::console::error_1(&format!("deeprep panicked: {info}").into());
+        }));
+    });
+}
+
 fn js_err(e: crate::Error) -> JsError {
     JsError::new(&e.to_string())
 }
@@ -431,5 +442,405 @@ impl Inbetweener {
             vec![ms, 0.0, 0.0, 0.0],
             vec![0.0; 4],
         )
+    }
+}
+
+/// IK from joint positions (thesis Sec. 4.4.3): lifts poses given as global
+/// joint positions to joint rotations on the model's skeleton.
+#[wasm_bindgen]
+pub struct IkSolver {
+    inner: crate::ik::IkModel,
+}
+
+/// The result of [`IkSolver::solve`].
+#[wasm_bindgen]
+pub struct IkResult {
+    bvh: String,
+    channels: Vec<f32>,
+    positions: Vec<f32>,
+    mean_error: f64,
+    max_error: f64,
+}
+
+#[wasm_bindgen]
+impl IkResult {
+    /// The poses as a BVH clip on the model's skeleton.
+    #[wasm_bindgen(getter)]
+    pub fn bvh(&self) -> String {
+        self.bvh.clone()
+    }
+    /// BVH channel values, `frames × channelCount`.
+    #[wasm_bindgen(getter)]
+    pub fn channels(&self) -> Vec<f32> {
+        self.channels.clone()
+    }
+    /// Forward kinematics of the solution, `frames × joints × 3`.
+    #[wasm_bindgen(getter)]
+    pub fn positions(&self) -> Vec<f32> {
+        self.positions.clone()
+    }
+    /// Mean distance between input and reconstructed joints (BVH units).
+    #[wasm_bindgen(getter, js_name = meanError)]
+    pub fn mean_error(&self) -> f64 {
+        self.mean_error
+    }
+    /// Largest such distance.
+    #[wasm_bindgen(getter, js_name = maxError)]
+    pub fn max_error(&self) -> f64 {
+        self.max_error
+    }
+}
+
+#[wasm_bindgen]
+impl IkSolver {
+    /// Loads `ik.onnx` (bytes) with `ik.manifest.json` (text).
+    #[wasm_bindgen(constructor)]
+    pub fn new(onnx: &[u8], manifest: &str) -> Result<IkSolver, JsError> {
+        Ok(IkSolver {
+            inner: crate::ik::IkModel::new(onnx, manifest).map_err(js_err)?,
+        })
+    }
+    /// The skeleton as BVH text (no frames); joint order of the inputs.
+    #[wasm_bindgen(getter, js_name = skeletonBvh)]
+    pub fn skeleton_bvh(&self) -> String {
+        self.inner.skeleton().write()
+    }
+    /// Joints per pose.
+    #[wasm_bindgen(getter)]
+    pub fn joints(&self) -> usize {
+        self.inner.joints()
+    }
+    /// Solves `frames` poses of global joint positions (`frames × joints × 3`).
+    pub fn solve(&self, positions: &[f32], frames: usize) -> Result<IkResult, JsError> {
+        let sol = self.inner.solve(positions, frames).map_err(js_err)?;
+        let bvh = sol
+            .motion
+            .to_bvh(self.inner.skeleton(), 1.0 / 60.0)
+            .map_err(js_err)?;
+        Ok(IkResult {
+            bvh: bvh.write(),
+            channels: bvh.motion,
+            positions: sol.positions,
+            mean_error: sol.mean_error,
+            max_error: sol.max_error,
+        })
+    }
+}
+
+/// The wgpu viewer on a canvas: WebGPU when the browser offers it, WebGL2
+/// otherwise (or when forced). It draws the current pose, keyframe poses in
+/// a second color, the root trajectory as dots on the ground, and a grid.
+#[wasm_bindgen]
+pub struct Viewer {
+    _instance: wgpu::Instance,
+    _adapter: wgpu::Adapter,
+    lost: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    surface: wgpu::Surface<'static>,
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    config: wgpu::SurfaceConfiguration,
+    renderer: crate::viewer::Renderer,
+    scene: crate::viewer::Scene,
+    camera: crate::viewer::OrbitCamera,
+    parents: Vec<Option<usize>>,
+    selected: Option<usize>,
+    backend: String,
+}
+
+fn parents_from(parents: &[i32]) -> Vec<Option<usize>> {
+    parents
+        .iter()
+        .map(|&p| if p < 0 { None } else { Some(p as usize) })
+        .collect()
+}
+
+fn points3(flat: &[f32], what: &str) -> Result<Vec<[f32; 3]>, JsError> {
+    if flat.len() % 3 != 0 {
+        return Err(JsError::new(&format!(
+            "{what}: expected a multiple of 3 numbers, found {}",
+            flat.len()
+        )));
+    }
+    Ok(flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
+}
+
+#[wasm_bindgen]
+impl Viewer {
+    /// Opens the viewer on `canvas`. `forceWebgl2` skips WebGPU.
+    pub async fn create(
+        canvas: web_sys::HtmlCanvasElement,
+        force_webgl2: bool,
+    ) -> Result<Viewer, JsError> {
+        install_panic_hook();
+        // WebGPU first: ask for an adapter before touching the canvas, so that
+        // the canvas is still free for WebGL2 when WebGPU is unavailable.
+        // (wgpu's detection helper requests and drops a second adapter; in
+        // Chromium that lost the device once the dropped one was collected.)
+        let (w, h) = (canvas.width().max(1), canvas.height().max(1));
+        let mut found = None;
+        if !force_webgl2 {
+            let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+            desc.backends = wgpu::Backends::BROWSER_WEBGPU;
+            let instance = wgpu::Instance::new(desc);
+            if let Ok(adapter) = instance
+                .request_adapter(&wgpu::RequestAdapterOptions::default())
+                .await
+            {
+                found = Some((instance, adapter));
+            }
+        }
+        let (instance, surface, adapter) = match found {
+            Some((instance, adapter)) => {
+                let surface = instance
+                    .create_surface(wgpu::SurfaceTarget::Canvas(canvas))
+                    .map_err(|e| JsError::new(&format!("viewer: cannot use the canvas: {e}")))?;
+                (instance, surface, adapter)
+            }
+            None => {
+                let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+                desc.backends = wgpu::Backends::GL;
+                let instance = wgpu::Instance::new(desc);
+                let surface = instance
+                    .create_surface(wgpu::SurfaceTarget::Canvas(canvas))
+                    .map_err(|e| JsError::new(&format!("viewer: cannot use the canvas: {e}")))?;
+                let adapter = instance
+                    .request_adapter(&wgpu::RequestAdapterOptions {
+                        compatible_surface: Some(&surface),
+                        ..Default::default()
+                    })
+                    .await
+                    .map_err(|e| {
+                        JsError::new(&format!("viewer: no WebGPU or WebGL2 adapter: {e}"))
+                    })?;
+                (instance, surface, adapter)
+            }
+        };
+        let info = adapter.get_info();
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("deeprep viewer"),
+                required_limits: wgpu::Limits::downlevel_webgl2_defaults()
+                    .using_resolution(adapter.limits()),
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| JsError::new(&format!("viewer: GPU device: {e}")))?;
+        let lost = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let flag = lost.clone();
+        device.set_device_lost_callback(move |reason, message| {
+            flag.store(true, std::sync::atomic::Ordering::SeqCst);
+            web_sys::console::warn_1(
+                &format!("deeprep viewer: GPU device lost ({reason:?}): {message}").into(),
+            );
+        });
+        let mut config = surface
+            .get_default_config(&adapter, w, h)
+            .ok_or_else(|| JsError::new("viewer: the canvas surface is not supported"))?;
+        // The renderer's colors are display values: prefer a non-sRGB target
+        // so that WebGPU and WebGL2 show the same picture.
+        if let Some(f) = surface
+            .get_capabilities(&adapter)
+            .formats
+            .iter()
+            .find(|f| !f.is_srgb())
+        {
+            config.format = *f;
+        }
+        surface.configure(&device, &config);
+        let renderer = crate::viewer::Renderer::new(&device, config.format);
+        let backend = match info.backend {
+            wgpu::Backend::BrowserWebGpu => "webgpu".to_string(),
+            wgpu::Backend::Gl => "webgl2".to_string(),
+            other => format!("{other:?}").to_lowercase(),
+        };
+        Ok(Viewer {
+            _instance: instance,
+            _adapter: adapter,
+            lost,
+            surface,
+            device,
+            queue,
+            config,
+            renderer,
+            scene: crate::viewer::Scene::default(),
+            camera: crate::viewer::OrbitCamera::default(),
+            parents: Vec::new(),
+            selected: None,
+            backend,
+        })
+    }
+
+    /// "webgpu" or "webgl2".
+    #[wasm_bindgen(getter)]
+    pub fn backend(&self) -> String {
+        self.backend.clone()
+    }
+
+    /// True once the GPU device is lost (the browser reset the GPU, or a
+    /// headless browser could not present a WebGPU canvas): draw nothing
+    /// more and open a new viewer, e.g. with WebGL2 on a fresh canvas.
+    #[wasm_bindgen(getter, js_name = deviceLost)]
+    pub fn device_lost(&self) -> bool {
+        self.lost.load(std::sync::atomic::Ordering::SeqCst)
+    }
+
+    /// Sets the skeleton's parents (−1 for the root); call before poses.
+    #[wasm_bindgen(js_name = setParents)]
+    pub fn set_parents(&mut self, parents: &[i32]) {
+        self.parents = parents_from(parents);
+    }
+
+    /// Sets the drawn poses: `pose` (global positions, joints × 3; may be
+    /// empty) and `keys` (key poses, k × joints × 3, in the key color).
+    #[wasm_bindgen(js_name = setPoses)]
+    pub fn set_poses(&mut self, pose: &[f32], keys: &[f32]) -> Result<(), JsError> {
+        use crate::viewer::scene::colors;
+        let j = self.parents.len();
+        if j == 0 {
+            return Err(JsError::new("viewer: call setParents first"));
+        }
+        if keys.len() % (3 * j) != 0 || (!pose.is_empty() && pose.len() != 3 * j) {
+            return Err(JsError::new(&format!(
+                "viewer: poses must have {j} joints × 3 numbers (pose {}, keys {})",
+                pose.len(),
+                keys.len()
+            )));
+        }
+        self.scene.skeletons.clear();
+        if !pose.is_empty() {
+            self.scene.skeletons.push(crate::viewer::SkeletonPose::new(
+                points3(pose, "pose")?,
+                self.parents.clone(),
+                colors::POSE,
+            ));
+        }
+        for k in keys.chunks_exact(3 * j) {
+            let mut s = crate::viewer::SkeletonPose::new(
+                points3(k, "keys")?,
+                self.parents.clone(),
+                colors::KEY,
+            );
+            s.joint_radius *= 0.8;
+            s.bone_radius *= 0.8;
+            self.scene.skeletons.push(s);
+        }
+        if let (Some(sel), false) = (self.selected, pose.is_empty()) {
+            if sel < j {
+                let p = [pose[3 * sel], pose[3 * sel + 1], pose[3 * sel + 2]];
+                let mut s = crate::viewer::SkeletonPose::new(vec![p], vec![None], colors::SELECTED);
+                s.joint_radius *= 1.8;
+                self.scene.skeletons.push(s);
+            }
+        }
+        Ok(())
+    }
+
+    /// The root trajectory (points × 3), drawn as dots on the ground.
+    #[wasm_bindgen(js_name = setTrajectory)]
+    pub fn set_trajectory(&mut self, points: &[f32]) -> Result<(), JsError> {
+        self.scene.trajectory = points3(points, "trajectory")?;
+        Ok(())
+    }
+
+    /// Highlights a joint of the current pose (−1: none); takes effect at the next `setPoses`.
+    #[wasm_bindgen(js_name = setSelected)]
+    pub fn set_selected(&mut self, joint: i32) {
+        self.selected = (joint >= 0).then_some(joint as usize);
+    }
+
+    /// Orbits by pixel deltas.
+    pub fn orbit(&mut self, dx: f32, dy: f32) {
+        self.camera.orbit(-dx * 0.008, dy * 0.008);
+    }
+
+    /// Pans by pixel deltas.
+    pub fn pan(&mut self, dx: f32, dy: f32) {
+        self.camera.pan(dx, dy, self.config.height as f32);
+    }
+
+    /// Zooms: the distance is multiplied by `factor`.
+    pub fn zoom(&mut self, factor: f32) {
+        self.camera.zoom(factor);
+    }
+
+    /// Aims the camera at all drawn poses and the trajectory.
+    pub fn frame(&mut self) {
+        let mut pts: Vec<[f32; 3]> = self
+            .scene
+            .skeletons
+            .iter()
+            .flat_map(|s| s.positions.iter().copied())
+            .collect();
+        pts.extend(self.scene.trajectory.iter().copied());
+        self.camera.frame(&pts);
+    }
+
+    /// The joint of the current pose under canvas pixel (x, y), or −1.
+    #[wasm_bindgen(js_name = pickJoint)]
+    pub fn pick_joint(&self, x: f32, y: f32) -> i32 {
+        let (w, h) = (self.config.width as f32, self.config.height as f32);
+        match crate::viewer::pick_joint(&self.scene, &self.camera, x, y, w, h, 2.5) {
+            Some((0, j)) if !self.scene.skeletons.is_empty() => j as i32,
+            _ => -1,
+        }
+    }
+
+    /// Where the ray through canvas pixel (x, y) meets the ground (y = 0):
+    /// [x, 0, z], or an empty array when it does not.
+    #[wasm_bindgen(js_name = groundPoint)]
+    pub fn ground_point(&self, x: f32, y: f32) -> Vec<f32> {
+        let (w, h) = (self.config.width as f32, self.config.height as f32);
+        let (o, d) = self.camera.ray(x, y, w, h);
+        if d.y.abs() < 1e-6 {
+            return Vec::new();
+        }
+        let t = -o.y / d.y;
+        if t <= 0.0 {
+            return Vec::new();
+        }
+        let p = o + d * t;
+        vec![p.x, 0.0, p.z]
+    }
+
+    /// Matches the canvas size (pixels).
+    pub fn resize(&mut self, width: u32, height: u32) {
+        let (w, h) = (width.max(1), height.max(1));
+        if (w, h) != (self.config.width, self.config.height) {
+            self.config.width = w;
+            self.config.height = h;
+            self.surface.configure(&self.device, &self.config);
+        }
+    }
+
+    /// Draws one frame.
+    pub fn render(&mut self) -> Result<(), JsError> {
+        if self.device_lost() {
+            return Err(JsError::new(
+                "viewer: the GPU device was lost; open a new viewer",
+            ));
+        }
+        let frame = match self.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(t)
+            | wgpu::CurrentSurfaceTexture::Suboptimal(t) => t,
+            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+                self.surface.configure(&self.device, &self.config);
+                return Ok(());
+            }
+            _ => return Ok(()),
+        };
+        let view = frame
+            .texture
+            .create_view(&wgpu::TextureViewDescriptor::default());
+        self.renderer.render(
+            &self.device,
+            &self.queue,
+            &view,
+            self.config.width,
+            self.config.height,
+            &self.scene,
+            &self.camera,
+        );
+        self.queue.present(frame);
+        Ok(())
     }
 }

@@ -12,13 +12,21 @@ let browser, server;
 before(async () => { server = await startServer(); browser = await launch(); });
 after(async () => { await browser?.close(); await server?.close(); });
 
+// Pixel statistics of the view. WebGPU is read through an offscreen
+// render (headless Chromium cannot read a WebGPU canvas back), WebGL2 and
+// the 2-D fallback from the canvas itself. `key` counts pixels in the
+// keyframe color (pink), `pose` in the pose color (light grey).
 async function canvasStats(page) {
-  return page.evaluate(() => {
-    const c = document.getElementById('view');
-    const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
-    let lit = 0;
-    for (let i = 0; i < d.length; i += 4) if (Math.max(d[i], d[i + 1], d[i + 2]) > 90) lit++;
-    return { lit, total: d.length / 4 };
+  return page.evaluate(async () => {
+    const d = await window.deeprepState.view.pixels();
+    let lit = 0, key = 0, pose = 0;
+    for (let i = 0; i < d.length; i += 4) {
+      const [r, g, b] = [d[i], d[i + 1], d[i + 2]];
+      if (Math.max(r, g, b) > 90) lit++;
+      if (r > 120 && r > g + 50 && b > g) key++;
+      if (r > 120 && g > 120 && b > 120 && Math.abs(r - g) < 30) pose++;
+    }
+    return { lit, key, pose, total: d.length / 4, view: window.deeprepState.view.name };
   });
 }
 
@@ -31,6 +39,11 @@ test('sketch page: 3 keys, 512 frames, drawn, exported, undoable', async () => {
   });
   assert.deepEqual(errors, []);
   assert.match(await page.textContent('#method-badge'), /Generative Tweening model/);
+  // The wgpu renderer: WebGPU, or WebGL2 when the WebGPU device is lost
+  // (headless Chromium's SwiftShader WebGPU cannot present a canvas and
+  // loses its device after the first frame), never the 2-D fallback.
+  const view = await page.evaluate(() => document.body.dataset.view);
+  assert.ok(['webgpu', 'webgl2'].includes(view), `view: ${view}`);
 
   // Keys at 0, 250 and 511 of a 512-frame motion.
   await page.fill('#length', '512');
@@ -47,6 +60,7 @@ test('sketch page: 3 keys, 512 frames, drawn, exported, undoable', async () => {
   assert.deepEqual(errors, []);
   const stats = await canvasStats(page);
   assert.ok(stats.lit > 0.003 * stats.total, `canvas looks blank: ${JSON.stringify(stats)}`);
+  assert.ok(stats.key > 200 && stats.pose > 200, `poses or keys missing: ${JSON.stringify(stats)}`);
   await setFrame(380);
   fs.mkdirSync(path.join(ROOT, 'tests/out'), { recursive: true });
   await page.screenshot({ path: path.join(ROOT, 'tests/out/sketch.png') });
@@ -75,4 +89,32 @@ test('sketch page: 3 keys, 512 frames, drawn, exported, undoable', async () => {
   assert.match(await page.textContent('#status'), /600 frames.*keys are unchanged/);
   assert.equal(await page.evaluate(() => window.deeprepState.keys.length), 2);
 
+});
+
+test('sketch page: the WebGL2 path, forced by ?webgl2, renders too', async () => {
+  const page = await browser.context.newPage();
+  const errors = watchErrors(page);
+  await page.goto(`${server.url}/web/index.html?webgl2`);
+  await page.waitForSelector('body[data-ready="1"]', { timeout: 120_000 });
+  assert.equal(await page.evaluate(() => document.body.dataset.view), 'webgl2');
+  assert.match(await page.textContent('#view-badge'), /WebGL2/);
+  const stats = await canvasStats(page);
+  assert.ok(stats.lit > 0.003 * stats.total, `WebGL2 canvas looks blank: ${JSON.stringify(stats)}`);
+  assert.ok(stats.key > 200 && stats.pose > 200, `poses or keys missing: ${JSON.stringify(stats)}`);
+  // A browser screenshot sees the WebGL2 canvas (the README's picture).
+  await page.$eval('#scrub', (el) => { el.value = '200'; el.dispatchEvent(new Event('input')); });
+  fs.mkdirSync(path.join(ROOT, 'tests/out'), { recursive: true });
+  await page.screenshot({ path: path.join(ROOT, 'tests/out/sketch_webgl2.png') });
+  assert.deepEqual(errors, []);
+});
+
+test('sketch page: ?view=2d keeps the 2-D canvas fallback working', async () => {
+  const page = await browser.context.newPage();
+  const errors = watchErrors(page);
+  await page.goto(`${server.url}/web/index.html?view=2d`);
+  await page.waitForSelector('body[data-ready="1"]', { timeout: 120_000 });
+  assert.equal(await page.evaluate(() => document.body.dataset.view), '2d');
+  const stats = await canvasStats(page);
+  assert.ok(stats.lit > 0.002 * stats.total, `2-D canvas looks blank: ${JSON.stringify(stats)}`);
+  assert.deepEqual(errors, []);
 });
