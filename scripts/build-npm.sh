@@ -36,6 +36,18 @@ export interface SynthesisRequest {
   dna?: number[] | Float32Array;
   method?: 'model' | 'slerp';
 }
+/** IK from joint positions (thesis Sec. 4.4.3). */
+export interface IkSolution {
+  /** The poses as BVH text on the model's skeleton. */
+  bvh: string;
+  /** BVH channel values, frames x channels. */
+  channels: Float32Array;
+  /** Forward kinematics of the solution, frames x joints x 3. */
+  positions: Float32Array;
+  /** Mean and largest distance between input and reconstructed joints (BVH units). */
+  meanError: number;
+  maxError: number;
+}
 /** A Promise API over a Web Worker that runs the wasm in-betweening. */
 export class DeeprepClient {
   static create(opts: { modelBase: string; workerUrl?: URL | string; onProgress?: (p: Progress) => void }): Promise<DeeprepClient>;
@@ -43,6 +55,8 @@ export class DeeprepClient {
   readonly hasModel: boolean;
   readonly modelError?: string;
   synthesize(req: SynthesisRequest): Promise<SynthesisResult>;
+  /** IK from global joint positions (frames x joints x 3, the skeleton's joint order). */
+  ik(positions: number[] | Float32Array, frames: number): Promise<IkSolution>;
   rcAngles(channels: number[], joint: number): Promise<number[]>;
   setRcAngles(channels: number[], joint: number, angles: number[]): Promise<number[]>;
   terminate(): void;

@@ -188,6 +188,8 @@ def main():
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--dna-weight", type=float, default=None, help="weight of each DNA loss (thesis: 50)")
+    ap.add_argument("--lr-g", type=float, default=2e-4, help="generator learning rate (Adam)")
+    ap.add_argument("--lr-d", type=float, default=1e-4, help="discriminator learning rate (Adam)")
     ap.add_argument("--resume", default=None, help="continue from a gen.pt checkpoint (generator and discriminator)")
     args = ap.parse_args()
     torch.set_num_threads(args.threads)
@@ -229,8 +231,8 @@ def main():
         G.load_state_dict(ck["G"])
         D.load_state_dict(ck["D"])
         step0 = ck["steps"]
-    og = torch.optim.Adam(G.parameters(), lr=2e-4, betas=(0.5, 0.99))
-    od = torch.optim.Adam(D.parameters(), lr=1e-4, betas=(0.5, 0.99))
+    og = torch.optim.Adam(G.parameters(), lr=args.lr_g, betas=(0.5, 0.99))
+    od = torch.optim.Adam(D.parameters(), lr=args.lr_d, betas=(0.5, 0.99))
     n, b = args.frames, args.batch
     t0, step = time.time(), step0
     while time.time() - t0 < args.gen_minutes * 60:

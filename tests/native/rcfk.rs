@@ -108,9 +108,7 @@ fn an_explicit_axis_frame_puts_y_on_that_axis() {
     ];
     assert!((y[2] - 1.0).abs() < 1e-9, "{y:?}");
     let bad = table.replace(r#""order": "yxz"}"#, r#""order": "yxz", "frame": "w"}"#);
-    let err = RcSkeleton::new(&bvh, &parse_table(&bad).unwrap())
-        .err()
-        .expect("unknown rule");
+    let err = RcSkeleton::new(&bvh, &parse_table(&bad).unwrap()).expect_err("unknown rule");
     assert!(err.to_string().contains("unknown frame rule"), "{err}");
 }
 
