@@ -9,7 +9,7 @@ import re
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 M = lambda n: json.load(open(os.path.join(ROOT, "models", "onnx", f"{n}.manifest.json")))
-rot, gen, path = M("rot6d_autoencoder"), M("tween_generator"), M("tween_path")
+rot, gen, path, ik = M("rot6d_autoencoder"), M("tween_generator"), M("tween_path"), M("ik")
 ev = json.load(open(os.path.join(ROOT, "docs", "inbetween_eval.json")))
 t52 = path["training"]["table_5_2_validation"]
 gaps = [30, 60, 120, 300]
@@ -22,8 +22,9 @@ models = f"""<!-- models -->
 | file | trained on | quality |
 |---|---|---|
 | `rot6d_autoencoder.onnx` | {rot['training']['steps']:,} Adam steps × {rot['training']['batch']} rotations uniform on SO(3), {rot['training']['seconds']} s on one CPU thread (`train/tiny_rotation_mlp.py`) | geodesic error on 10⁵ held-out rotations: mean {rot['accuracy']['mean_deg']:.2f}°, max {rot['accuracy']['max_deg']:.2f}° (thesis Fig. 4.5c at width 128 and 500k steps: 0.49°, 1.98°) |
-| `tween_generator.onnx` | CMU train takes at 60 fps (59,290 frames; `train/data_pipeline.py`), {gen['training']['steps']:,} steps × {gen['training']['batch']} windows of {gen['training']['frames']} frames on the 2-core CPU, 16 minutes (`train/train_tween.py`, run 4 of train/README.md) | {verdict} |
+| `tween_generator.onnx` | CMU train takes at 60 fps (59,290 frames; `train/data_pipeline.py`), {gen['training']['steps']:,} steps × {gen['training']['batch']} windows of {gen['training']['frames']} frames on the 2-core CPU (`train/train_tween.py`; the runs are listed in train/README.md) | {verdict} |
 | `tween_path.onnx` | the same frames, {path['training']['steps']:,} steps | Table 5.2's columns on validation windows: V1 {t52['V1']:.2f}, V8 {t52['V8']:.2f}, V32 {t52['V32']:.2f}, V128 {t52['V128']:.1f}, Y {t52['Y']:.2f} units (thesis: 0.7, 1.5, 2.8, 5.5, 1.8 cm) |
+| `ik.onnx` | the same frames, {ik['training']['steps']:,} steps × {ik['training']['batch']} poses, random rotations about y (`train/ik_test.py`, representation `{ik['representation']}`) | IK on every validation pose × 3 rotations: joint error mean {ik['training']['validation']['mean']:.2f}, max {ik['training']['validation']['max']:.1f}, std {ik['training']['validation']['std']:.2f} units (thesis Table 5.1, RC-FK: 2.3, 34.9, 1.5 cm); all four representations in [docs/ik.md](docs/ik.md) |
 <!-- /models -->"""
 rows = []
 for metric, label in [("L2P", "L2P"), ("L2Q", "L2Q"), ("NPSS", "NPSS"), ("foot_skate", "foot skating (units/frame)")]:
@@ -47,10 +48,11 @@ Ground-truth foot skating by the same measure: {ev['ground_truth_foot_skate']:.3
 NPSS sums over frequencies, so it grows with the window: compare methods
 within a gap. Verdict against the target (beat SLERP+LERP on NPSS at every
 gap and on L2P at 30 and 60): {"met" if goal else "not met"}. The model was
-trained for minutes on two CPU cores, and RC-FK with Table D.1's ranges
-cannot express the data's forearm twist and finger rest poses (8 units per
-joint on average), a floor that interpolating the keys' own rotations does
-not have. Keys are exact after post-processing. What was tried and what is
+trained for about an hour on two CPU cores (the thesis: 560k iterations on
+a GPU). RC-FK with Table D.1's ranges cannot express the data's wrist twist
+and finger rest poses (1.24 units per joint on average since the elbow hinge
+fit of `train/fit_frames.py`; 8.2 before), a floor that interpolating the
+keys' own rotations does not have. Keys are exact after post-processing. What was tried and what is
 next: train/README.md and the issue notes.
 
 ![error against gap](docs/inbetween_eval.png)

@@ -24,6 +24,7 @@ const state = {
   fkCache: new Map(),
   client: null,
   view: null,          // see createView()
+  dragPose: null,      // joint positions while a joint is dragged
 };
 
 function setStatus(text, error = false) {
@@ -103,6 +104,7 @@ function drawSkeleton(ctx, proj, pos, color, width, alpha, selected) {
 }
 
 function currentPose() {
+  if (state.dragPose) return state.dragPose;
   const J = state.skeleton.names.length;
   if (state.result && state.frame < state.result.frames) {
     return state.result.positions.subarray(state.frame * J * 3, (state.frame + 1) * J * 3);
@@ -159,7 +161,13 @@ function gpuView(viewer, canvas) {
       const a = viewer.groundPoint(x0, y0), b = viewer.groundPoint(x1, y1);
       return a.length && b.length ? [b[0] - a[0], b[2] - a[2]] : [0, 0];
     },
+    // World motion of a point at p dragged from pixel (x0, y0) to (x1, y1) in the view plane.
+    dragDelta(p, x0, y0, x1, y1) {
+      const a = viewer.planePoint(x0, y0, p[0], p[1], p[2]), b = viewer.planePoint(x1, y1, p[0], p[1], p[2]);
+      return a.length && b.length ? [b[0] - a[0], b[1] - a[1], b[2] - a[2]] : [0, 0, 0];
+    },
     frame() { viewer.frame(); },
+    project: (p) => viewer.projectPoint(p[0], p[1], p[2]),
     lost: () => viewer.deviceLost,
     // RGBA pixels of the view, read right after drawing.
     async pixels() { draw(); return readCanvas(canvas); },
@@ -249,7 +257,12 @@ function canvasView(canvas) {
       const s = scale(), dx = x1 - x0, dy = y1 - y0, { yaw } = cam;
       return [s * (dx * Math.cos(yaw) + dy * Math.sin(yaw)), s * (-dx * Math.sin(yaw) + dy * Math.cos(yaw))];
     },
+    dragDelta(p, x0, y0, x1, y1) {
+      const s = scale(), dx = x1 - x0, dy = y1 - y0, { yaw } = cam;
+      return [s * dx * Math.cos(yaw), -s * dy, -s * dx * Math.sin(yaw)];
+    },
     frame() {},
+    project(p) { const q = camera(canvas)(p); return q ? [q[0], q[1]] : []; },
     async pixels() { return ctx.getImageData(0, 0, canvas.width, canvas.height).data; },
   };
 }
@@ -447,19 +460,57 @@ function wireCanvas(canvas) {
     const hit = currentPose() ? state.view.pick(x, y) : -1;
     if (hit >= 0) { state.selected = hit; refreshJointEditor(); draw(); }
     const k = keyAt(state.frame);
-    drag = { x, y, moveRoot: hit === 0 && !!k, pushed: false, pan: e.shiftKey };
+    drag = { x, y, moveRoot: hit === 0 && !!k, pushed: false, pan: e.shiftKey,
+             joint: hit > 0 && !!k && !e.shiftKey ? { index: hit, key: k, positions: Float32Array.from(fk(k.channels)), moved: false } : null };
   });
   canvas.addEventListener('wheel', (e) => { e.preventDefault(); state.view.zoom(Math.exp(e.deltaY * 0.001)); draw(); }, { passive: false });
 }
 
+function subtree(j) {
+  const out = [j];
+  for (let i = 0; i < out.length; i++) state.skeleton.parents.forEach((p, c) => { if (p === out[i]) out.push(c); });
+  return out;
+}
+
+// A dragged joint becomes a new key pose: joint positions -> IK network -> channels.
+async function solveDraggedPose(key, positions) {
+  try {
+    pushHistory();
+    setStatus('solving the dragged pose with the IK network…');
+    const r = await state.client.ik(positions, 1);
+    const ch = Array.from(r.channels);
+    ch[0] = key.channels[0]; ch[1] = key.channels[1]; ch[2] = key.channels[2]; // the root stays where it was
+    key.channels = ch;
+    setStatus(`pose solved by IK (mean joint error ${r.meanError.toFixed(2)} units); synthesize to update the motion`);
+  } catch (e) {
+    state.undo.pop();
+    setStatus(`IK failed, the key is unchanged: ${e.message}`, true);
+  }
+  state.dragPose = null;
+  refreshJointEditor();
+  draw();
+}
+
 function wireInput() {
   wireCanvas($('view'));
-  window.addEventListener('mouseup', () => { drag = null; });
+  window.addEventListener('mouseup', () => {
+    if (drag && drag.joint && drag.joint.moved) solveDraggedPose(drag.joint.key, drag.joint.positions);
+    drag = null;
+  });
   window.addEventListener('mousemove', (e) => {
     if (!drag) return;
     const [x, y] = toCanvas(e);
     const dx = x - drag.x, dy = y - drag.y;
-    if (drag.moveRoot) {
+    if (drag.joint) {
+      // Move the joint and everything below it in the view plane; the pose
+      // is solved by the IK network when the button is released.
+      const { index, positions } = drag.joint;
+      const p = [positions[3 * index], positions[3 * index + 1], positions[3 * index + 2]];
+      const d = state.view.dragDelta(p, drag.x, drag.y, x, y);
+      for (const j of subtree(index)) for (let a = 0; a < 3; a++) positions[3 * j + a] += d[a];
+      drag.joint.moved = true;
+      state.dragPose = positions;
+    } else if (drag.moveRoot) {
       const k = keyAt(state.frame);
       if (!drag.pushed) { pushHistory(); drag.pushed = true; }
       const [gx, gz] = state.view.groundDelta(drag.x, drag.y, x, y);

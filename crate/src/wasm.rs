@@ -802,6 +802,33 @@ impl Viewer {
         vec![p.x, 0.0, p.z]
     }
 
+    /// Where the ray through canvas pixel (x, y) meets the plane through
+    /// (px, py, pz) that faces the camera: for dragging a joint in the view
+    /// plane. Empty when the ray runs parallel to it.
+    #[wasm_bindgen(js_name = planePoint)]
+    pub fn plane_point(&self, x: f32, y: f32, px: f32, py: f32, pz: f32) -> Vec<f32> {
+        let (w, h) = (self.config.width as f32, self.config.height as f32);
+        let (o, d) = self.camera.ray(x, y, w, h);
+        let p = glam::Vec3::new(px, py, pz);
+        let n = (self.camera.target - self.camera.eye()).normalize();
+        let denom = d.dot(n);
+        if denom.abs() < 1e-6 {
+            return Vec::new();
+        }
+        let t = (p - o).dot(n) / denom;
+        let q = o + d * t;
+        vec![q.x, q.y, q.z]
+    }
+
+    /// Canvas pixel (x, y) of a world point, or an empty array behind the camera.
+    #[wasm_bindgen(js_name = projectPoint)]
+    pub fn project_point(&self, px: f32, py: f32, pz: f32) -> Vec<f32> {
+        let (w, h) = (self.config.width as f32, self.config.height as f32);
+        self.camera
+            .project([px, py, pz], w, h)
+            .map_or(Vec::new(), |p| vec![p[0], p[1]])
+    }
+
     /// Matches the canvas size (pixels).
     pub fn resize(&mut self, width: u32, height: u32) {
         let (w, h) = (width.max(1), height.max(1));

@@ -42,7 +42,9 @@ fn scene() -> Scene {
     let mut s = Scene::default();
     s.skeletons.push(SkeletonPose::new(p, par, colors::POSE));
     s.skeletons.push(SkeletonPose::new(k, kpar, colors::KEY));
-    s.trajectory = (0..40).map(|i| [-120.0 + 3.0 * i as f32, 0.0, 0.0]).collect();
+    s.trajectory = (0..40)
+        .map(|i| [-120.0 + 3.0 * i as f32, 0.0, 0.0])
+        .collect();
     s
 }
 
@@ -76,7 +78,10 @@ fn framing_keeps_every_point_on_screen() {
     cam.frame(&p);
     for q in &p {
         let s = cam.project(*q, 640.0, 480.0).unwrap();
-        assert!(s[0] > 0.0 && s[0] < 640.0 && s[1] > 0.0 && s[1] < 480.0, "{q:?} -> {s:?}");
+        assert!(
+            s[0] > 0.0 && s[0] < 640.0 && s[1] > 0.0 && s[1] < 480.0,
+            "{q:?} -> {s:?}"
+        );
     }
 }
 
@@ -102,7 +107,11 @@ fn headless_render_draws_the_scene() {
     eprintln!("adapter: {}", h.adapter);
     let s = scene();
     let mut cam = OrbitCamera::default();
-    let mut pts: Vec<[f32; 3]> = s.skeletons.iter().flat_map(|k| k.positions.clone()).collect();
+    let mut pts: Vec<[f32; 3]> = s
+        .skeletons
+        .iter()
+        .flat_map(|k| k.positions.clone())
+        .collect();
     pts.extend(&s.trajectory);
     cam.frame(&pts);
     let (w, h_px) = (320u32, 240u32);

@@ -81,6 +81,29 @@ test('sketch page: 3 keys, 512 frames, drawn, exported, undoable', async () => {
   await page.click('#redo');
   assert.deepEqual(await keyFrames(), [0, 299]);
 
+  // Dragging a joint of a key re-poses it through the IK network; undo restores it.
+  await setFrame(0);
+  const before = await page.evaluate(() => window.deeprepState.keys.find((k) => k.frame === 0).channels.slice());
+  const hand = await page.evaluate(() => window.deeprepState.skeleton.names.indexOf('lShin'));
+  const screen = await page.evaluate((j) => {
+    const s = window.deeprepState;
+    const p = s.view.project(Array.from(s.result.positions.subarray(3 * j, 3 * j + 3)));
+    const c = document.getElementById('view'), r = c.getBoundingClientRect();
+    return [r.left + (p[0] * r.width) / c.width, r.top + (p[1] * r.height) / c.height];
+  }, hand);
+  await page.mouse.move(screen[0], screen[1]);
+  await page.mouse.down();
+  await page.mouse.move(screen[0] + 30, screen[1] - 40, { steps: 4 });
+  await page.mouse.up();
+  await page.waitForFunction(() => /pose solved by IK/.test(document.getElementById('status').textContent), null, { timeout: 60_000 });
+  const after = await page.evaluate(() => window.deeprepState.keys.find((k) => k.frame === 0).channels.slice());
+  assert.equal(await page.evaluate(() => window.deeprepState.selected), hand);
+  assert.deepEqual(after.slice(0, 3), before.slice(0, 3), 'the root stays');
+  assert.ok(after.some((v, i) => Math.abs(v - before[i]) > 1), 'the pose changed');
+  await page.click('#undo');
+  assert.deepEqual(await page.evaluate(() => window.deeprepState.keys.find((k) => k.frame === 0).channels), before);
+  await page.click('#redo');
+
   // A failed synthesis keeps the keys: a gap of more than 600 frames.
   await page.evaluate(() => { window.deeprepState.keys = [window.deeprepState.keys[0], { ...window.deeprepState.keys[1], frame: 700 }]; });
   await page.fill('#length', '800');

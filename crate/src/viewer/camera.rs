@@ -85,7 +85,11 @@ impl OrbitCamera {
     pub fn frame(&mut self, points: &[[f32; 3]]) {
         let mut lo = Vec3::splat(f32::INFINITY);
         let mut hi = Vec3::splat(f32::NEG_INFINITY);
-        for p in points.iter().map(|p| Vec3::from(*p)).filter(|p| p.is_finite()) {
+        for p in points
+            .iter()
+            .map(|p| Vec3::from(*p))
+            .filter(|p| p.is_finite())
+        {
             lo = lo.min(p);
             hi = hi.max(p);
         }
@@ -105,11 +109,7 @@ impl OrbitCamera {
             return None;
         }
         let n = c / c.w;
-        Some([
-            (n.x + 1.0) / 2.0 * width,
-            (1.0 - n.y) / 2.0 * height,
-            n.z,
-        ])
+        Some([(n.x + 1.0) / 2.0 * width, (1.0 - n.y) / 2.0 * height, n.z])
     }
 
     /// The world-space ray (origin, unit direction) through a pixel.

@@ -220,7 +220,10 @@ fn draw_lists(scene: &Scene) -> DrawLists {
             else {
                 continue;
             };
-            let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero().to_array();
+            let n = (p[1] - p[0])
+                .cross(p[2] - p[0])
+                .normalize_or_zero()
+                .to_array();
             for q in p {
                 d.mesh_vertices.push(Vertex {
                     pos: q.to_array(),
@@ -235,6 +238,45 @@ fn draw_lists(scene: &Scene) -> DrawLists {
     d
 }
 
+/// A vertex buffer reused across frames: it grows (to the next power of
+/// two) when a frame needs more, and is refilled with `write_buffer`, so
+/// drawing every frame allocates nothing on the GPU.
+#[derive(Default)]
+struct DynBuffer {
+    buffer: Option<wgpu::Buffer>,
+    capacity: u64,
+}
+
+impl DynBuffer {
+    fn upload(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        data: &[u8],
+        label: &str,
+    ) -> Option<wgpu::Buffer> {
+        if data.is_empty() {
+            return None;
+        }
+        let len = data.len() as u64;
+        if self.buffer.is_none() || self.capacity < len {
+            if let Some(old) = self.buffer.take() {
+                old.destroy();
+            }
+            self.capacity = len.next_power_of_two().max(256);
+            self.buffer = Some(device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: self.capacity,
+                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }));
+        }
+        let b = self.buffer.as_ref()?;
+        queue.write_buffer(b, 0, data);
+        Some(b.clone())
+    }
+}
+
 /// GPU pipelines and reusable buffers for drawing scenes.
 pub struct Renderer {
     lit: wgpu::RenderPipeline,
@@ -244,6 +286,11 @@ pub struct Renderer {
     sphere: MeshBuffers,
     bone: MeshBuffers,
     depth: Option<(wgpu::TextureView, u32, u32)>,
+    spheres: DynBuffer,
+    bones: DynBuffer,
+    lines: DynBuffer,
+    mesh_vertices: DynBuffer,
+    mesh_instances: DynBuffer,
 }
 
 impl Renderer {
@@ -371,6 +418,11 @@ impl Renderer {
             sphere: upload(device, sphere_mesh(10, 16), "sphere"),
             bone: upload(device, bone_mesh(12), "bone"),
             depth: None,
+            spheres: DynBuffer::default(),
+            bones: DynBuffer::default(),
+            lines: DynBuffer::default(),
+            mesh_vertices: DynBuffer::default(),
+            mesh_instances: DynBuffer::default(),
         }
     }
 
@@ -418,24 +470,31 @@ impl Renderer {
         };
         queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&g));
         let lists = draw_lists(scene);
-        let buf = |data: &[u8], label: &str| {
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents: data,
-                usage: wgpu::BufferUsages::VERTEX,
-            })
-        };
-        let spheres = (!lists.spheres.is_empty())
-            .then(|| buf(bytemuck::cast_slice(&lists.spheres), "spheres"));
-        let bones =
-            (!lists.bones.is_empty()).then(|| buf(bytemuck::cast_slice(&lists.bones), "bones"));
-        let lines =
-            (!lists.lines.is_empty()).then(|| buf(bytemuck::cast_slice(&lists.lines), "lines"));
-        let mesh_v = (!lists.mesh_vertices.is_empty())
-            .then(|| buf(bytemuck::cast_slice(&lists.mesh_vertices), "mesh"));
+        let spheres = self.spheres.upload(
+            device,
+            queue,
+            bytemuck::cast_slice(&lists.spheres),
+            "spheres",
+        );
+        let bones = self
+            .bones
+            .upload(device, queue, bytemuck::cast_slice(&lists.bones), "bones");
+        let lines = self
+            .lines
+            .upload(device, queue, bytemuck::cast_slice(&lists.lines), "lines");
+        let mesh_v = self.mesh_vertices.upload(
+            device,
+            queue,
+            bytemuck::cast_slice(&lists.mesh_vertices),
+            "mesh",
+        );
         let mesh_i: Vec<Instance> = lists.mesh_instances.iter().map(|m| m.1).collect();
-        let mesh_inst =
-            (!mesh_i.is_empty()).then(|| buf(bytemuck::cast_slice(&mesh_i), "mesh instances"));
+        let mesh_inst = self.mesh_instances.upload(
+            device,
+            queue,
+            bytemuck::cast_slice(&mesh_i),
+            "mesh instances",
+        );
         let depth = self.depth_view(device, w, h);
         let bg = scene.background;
         let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {

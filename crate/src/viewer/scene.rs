@@ -118,8 +118,9 @@ pub mod colors {
     pub const SELECTED: [f32; 4] = [1.0, 0.8, 0.2, 1.0];
 }
 
-/// The joint under a pixel: `(skeleton, joint)` of the nearest joint whose
-/// sphere (radius × `slack`) the pixel's ray hits, or `None`.
+/// The joint under a pixel: `(skeleton, joint)` of the joint whose sphere
+/// (radius × `slack`) the pixel's ray passes closest to its centre,
+/// relative to the radius; nearer joints win ties. `None` when no sphere is hit.
 pub fn pick_joint(
     scene: &Scene,
     camera: &OrbitCamera,
@@ -130,7 +131,7 @@ pub fn pick_joint(
     slack: f32,
 ) -> Option<(usize, usize)> {
     let (o, d) = camera.ray(x, y, width, height);
-    let mut best: Option<(f32, usize, usize)> = None;
+    let mut best: Option<(f32, f32, usize, usize)> = None;
     for (s, sk) in scene.skeletons.iter().enumerate() {
         let r = sk.joint_radius * slack;
         for (j, p) in sk.positions.iter().enumerate() {
@@ -139,11 +140,13 @@ pub fn pick_joint(
             if t <= 0.0 {
                 continue;
             }
-            let miss = (o + d * t - c).length();
-            if miss <= r && best.is_none_or(|b| t < b.0) {
-                best = Some((t, s, j));
+            let miss = (o + d * t - c).length() / r;
+            if miss <= 1.0
+                && best.is_none_or(|b| miss < b.0 - 1e-3 || ((miss - b.0).abs() <= 1e-3 && t < b.1))
+            {
+                best = Some((miss, t, s, j));
             }
         }
     }
-    best.map(|b| (b.1, b.2))
+    best.map(|b| (b.2, b.3))
 }
