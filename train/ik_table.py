@@ -25,7 +25,7 @@ def main():
     meta = r["_meta"]
     reps = [k for k in ["quat", "euler", "6d", "rc"] if k in r]
     out = ["# The IK test (thesis Sec. 4.4.3, Table 5.1)", "",
-           "Commands: `train/.venv/bin/python train/data_pipeline.py && " + meta["command"] +
+           "Commands: `cargo build --release --bin deeprep && train/.venv/bin/python train/data_pipeline.py && " + meta["command"] +
            " && train/.venv/bin/python train/ik_table.py`", "",
            f"A 4-layer MLP (hidden width {meta['width']}, LeakyReLU) maps the 57 joint "
            "positions of a pose (hip at the origin) to one rotation per joint; a fixed FK layer turns them back into positions; "
