@@ -1,0 +1,14 @@
+//! Meshes (thesis ch. 2): the fully convolutional mesh autoencoder's graph
+//! machinery, kept free of any network code.
+//!
+//! - [`graph`]: vertex graphs of meshes of any topology (manifold or not),
+//!   ring neighbourhoods and graph distances.
+//! - [`sampling`]: graph down- and up-sampling that depends on topology
+//!   alone (Sec. 2.2.1, Appendix A.1.2), emitted as the padded index/mask
+//!   tables of Appendix A.1.1 for the training code.
+
+pub mod graph;
+pub mod sampling;
+
+pub use graph::Graph;
+pub use sampling::{sample, NeighborTable, Sampling};

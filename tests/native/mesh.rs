@@ -1,0 +1,202 @@
+#![allow(clippy::needless_range_loop)]
+//! Topology-only graph sampling (Sec. 2.2.1, App. A.1.2): small graphs
+//! whose answers are worked out by hand, a non-manifold mesh, and the
+//! sampler's invariants on random graphs.
+
+use deeprep::mesh::{sample, Graph};
+use deeprep::rng::Rng;
+
+fn path(n: usize) -> Graph {
+    let e: Vec<_> = (1..n).map(|i| (i - 1, i)).collect();
+    Graph::from_edges(n, &e).unwrap()
+}
+
+fn grid(w: usize, h: usize) -> Graph {
+    let mut e = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            let v = y * w + x;
+            if x + 1 < w {
+                e.push((v, v + 1));
+            }
+            if y + 1 < h {
+                e.push((v, v + w));
+            }
+        }
+    }
+    Graph::from_edges(w * h, &e).unwrap()
+}
+
+/// All-pairs distances by BFS (test helper, independent of `ring` order).
+fn dist(g: &Graph) -> Vec<Vec<usize>> {
+    (0..g.len())
+        .map(|s| {
+            let mut d = vec![usize::MAX; g.len()];
+            d[s] = 0;
+            let mut q = std::collections::VecDeque::from([s]);
+            while let Some(u) = q.pop_front() {
+                for &w in g.neighbors(u) {
+                    if d[w] == usize::MAX {
+                        d[w] = d[u] + 1;
+                        q.push_back(w);
+                    }
+                }
+            }
+            d
+        })
+        .collect()
+}
+
+#[test]
+fn a_path_by_hand() {
+    // 0-1-2-3-4-5-6, stride 2: keep 0, 2, 4, 6; kept vertices 2 apart are
+    // within 2s-1 = 3, so the sampled graph is the path 0-1-2-3.
+    let g = path(7);
+    let s = sample(&g, 2, 1, &[]).unwrap();
+    assert_eq!(s.selected, vec![0, 2, 4, 6]);
+    assert_eq!(s.graph.edges(), vec![(0, 1), (1, 2), (2, 3)]);
+    // Down, r = 1: each kept vertex reads itself, then its neighbours.
+    assert_eq!(s.down.width, 3);
+    assert_eq!(s.down.row(0), vec![0, 1]);
+    assert_eq!(s.down.row(1), vec![2, 1, 3]);
+    assert_eq!(s.down.row(3), vec![6, 5]);
+    assert_eq!(s.down.mask[0..3], [1, 1, 0]);
+    // Up, r = 1: vertex 1 reads kept vertices 0 and 2 (sampled 0 and 1).
+    assert_eq!(s.up.rows, 7);
+    assert_eq!(s.up.row(0), vec![0]);
+    assert_eq!(s.up.row(1), vec![0, 1]);
+    assert_eq!(s.up.row(5), vec![2, 3]);
+}
+
+#[test]
+fn a_grid_and_a_cycle_by_hand() {
+    // 3x3 grid (0..8 row by row), stride 2, BFS from 0: 0 is kept and covers
+    // 1 and 3; 2 is kept (covers 5); 4 is 2 from 0 and 2, kept; 6 and 8 too.
+    let s = sample(&grid(3, 3), 2, 1, &[]).unwrap();
+    assert_eq!(s.selected, vec![0, 2, 4, 6, 8]);
+    // Corners along a side are 2 apart (linked), diagonal corners 4 (> 3, not
+    // linked: 0-8 and 2-6); the centre is 2 from every corner.
+    assert_eq!(
+        s.graph.edges(),
+        vec![
+            (0, 1),
+            (0, 2),
+            (0, 3),
+            (1, 2),
+            (1, 4),
+            (2, 3),
+            (2, 4),
+            (3, 4)
+        ]
+    );
+    // A 6-cycle with stride 2 keeps 0, 2, 4, which become a triangle.
+    let c = Graph::from_edges(6, &[(0, 1), (1, 2), (2, 3), (3, 4), (4, 5), (5, 0)]).unwrap();
+    let s = sample(&c, 2, 1, &[]).unwrap();
+    assert_eq!(s.selected, vec![0, 2, 4]);
+    assert_eq!(s.graph.edges(), vec![(0, 1), (0, 2), (1, 2)]);
+    // Stride 1 keeps everything with the same edges.
+    let s = sample(&c, 1, 1, &[]).unwrap();
+    assert_eq!(s.selected, (0..6).collect::<Vec<_>>());
+    assert_eq!(s.graph, c);
+}
+
+#[test]
+fn seeds_are_kept_and_bad_requests_are_errors() {
+    let g = path(7);
+    let s = sample(&g, 2, 1, &[3]).unwrap();
+    // From 3 outwards: 3, then 1 and 5 (2 away); 0 is within 1 of 1, 6 of 5.
+    assert_eq!(s.selected, vec![1, 3, 5]);
+    assert!(sample(&g, 2, 1, &[3, 4])
+        .unwrap_err()
+        .to_string()
+        .contains("closer than the stride"));
+    assert!(sample(&g, 0, 1, &[]).is_err());
+    assert!(sample(&g, 3, 1, &[])
+        .unwrap_err()
+        .to_string()
+        .contains("radius"));
+    assert!(sample(&g, 2, 1, &[9]).is_err());
+    assert!(Graph::from_edges(3, &[(0, 5)]).is_err());
+}
+
+#[test]
+fn a_non_manifold_mesh() {
+    // Two triangles meeting at one vertex (a bowtie), a third triangle
+    // sharing an edge with three faces (non-manifold edge 0-1), and an
+    // isolated vertex 7.
+    let tris = [[0, 1, 2], [0, 1, 3], [0, 1, 4], [2, 5, 6]];
+    let g = Graph::from_triangles(8, &tris).unwrap();
+    assert_eq!(g.neighbors(0), &[1, 2, 3, 4]);
+    assert_eq!(g.neighbors(7), &[] as &[usize]);
+    let s = sample(&g, 2, 1, &[]).unwrap();
+    // BFS from 0 covers 1..4; 5 and 6 are 2 from 0 (via 2): 5 is kept and covers 6; 7 alone.
+    assert_eq!(s.selected, vec![0, 5, 7]);
+    assert_eq!(s.graph.edges(), vec![(0, 1)]);
+    assert_eq!(s.up.row(7), vec![2]);
+    let again = sample(&g, 2, 1, &[]).unwrap();
+    assert_eq!(s, again, "deterministic");
+}
+
+#[test]
+fn invariants_on_random_graphs() {
+    let mut rng = Rng::new(21);
+    for case in 0..40 {
+        let n = 20 + (rng.uniform() * 60.0) as usize;
+        // A random spanning tree plus extra edges: connected.
+        let mut e = Vec::new();
+        for v in 1..n {
+            e.push(((rng.uniform() * v as f64) as usize, v));
+        }
+        for _ in 0..n / 2 {
+            e.push((
+                (rng.uniform() * n as f64) as usize,
+                (rng.uniform() * n as f64) as usize,
+            ));
+        }
+        let g = Graph::from_edges(n, &e).unwrap();
+        let d = dist(&g);
+        for stride in 1..=3 {
+            let r = stride.max(1);
+            let s = sample(&g, stride, r, &[]).unwrap();
+            let kept = &s.selected;
+            for (i, &a) in kept.iter().enumerate() {
+                for (j, &b) in kept.iter().enumerate() {
+                    if i < j {
+                        assert!(
+                            d[a][b] >= stride,
+                            "case {case}: kept {a}, {b} only {} apart",
+                            d[a][b]
+                        );
+                        let linked = s.graph.neighbors(i).contains(&j);
+                        assert_eq!(
+                            linked,
+                            d[a][b] < 2 * stride,
+                            "case {case}: edge rule for {a}, {b}"
+                        );
+                    }
+                }
+            }
+            for v in 0..n {
+                let near = kept.iter().map(|&k| d[v][k]).min().unwrap();
+                assert!(
+                    near < stride,
+                    "case {case}: vertex {v} is {near} from every kept vertex (not maximal)"
+                );
+                let up = s.up.row(v);
+                assert!(!up.is_empty());
+                assert!(up.iter().all(|&i| d[v][kept[i]] <= r));
+            }
+            for (i, &k) in kept.iter().enumerate() {
+                let row = s.down.row(i);
+                assert_eq!(row[0], k, "a kept vertex reads itself first");
+                assert_eq!(row.len(), (0..n).filter(|&v| d[k][v] <= r).count());
+            }
+            // Connected input, connected output.
+            let comps = s.graph.components();
+            assert!(
+                comps.iter().all(|&c| c == 0),
+                "case {case} stride {stride}: sampled graph split"
+            );
+        }
+    }
+}
