@@ -200,3 +200,71 @@ fn invariants_on_random_graphs() {
         }
     }
 }
+
+/// The CC0 robot of ../shared/data/gltf: merged topology, rest pose,
+/// animations and skinned hands.
+#[test]
+fn the_robot_poses_with_one_topology() {
+    let p = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../shared/data/gltf/RobotExpressive.glb");
+    let Ok(bytes) = std::fs::read(&p) else {
+        eprintln!("SKIP: ../shared/data/gltf/RobotExpressive.glb is absent");
+        return;
+    };
+    let rig = deeprep::mesh::Rig::from_glb(&bytes).unwrap();
+    let n = rig.vertex_count();
+    assert_eq!(rig.animations.len(), 14);
+    assert!((6000..9000).contains(&n), "{n} vertices");
+    assert_eq!(
+        rig.vertex_part.iter().max().map(|&m| m + 1),
+        Some(19),
+        "19 primitives"
+    );
+    assert!(rig.triangles.iter().flatten().all(|&i| (i as usize) < n));
+    let rest = rig.rest_pose().unwrap();
+    let (lo, hi) = rest
+        .iter()
+        .fold(([f32::MAX; 3], [f32::MIN; 3]), |(lo, hi), p| {
+            (
+                std::array::from_fn(|i| lo[i].min(p[i])),
+                std::array::from_fn(|i| hi[i].max(p[i])),
+            )
+        });
+    let size: Vec<f32> = (0..3).map(|i| hi[i] - lo[i]).collect();
+    eprintln!(
+        "rest pose bounding box {size:?}, {n} vertices, {} triangles",
+        rig.triangles.len()
+    );
+    assert!(size[1] > size[0] * 0.5 && size.iter().all(|s| s.is_finite() && *s > 0.0));
+    let walk = rig
+        .animations
+        .iter()
+        .position(|a| a.name == "Walking")
+        .unwrap();
+    let d = rig.animations[walk].duration;
+    let a = rig.animation_pose(walk, 0.0).unwrap();
+    let b = rig.animation_pose(walk, d / 2.0).unwrap();
+    assert_eq!(a.len(), n);
+    let moved = a
+        .iter()
+        .zip(&b)
+        .filter(|(p, q)| (0..3).map(|i| (p[i] - q[i]).powi(2)).sum::<f32>().sqrt() > 0.01 * size[1])
+        .count();
+    assert!(
+        moved > n / 10,
+        "walking moves the body: {moved} of {n} vertices"
+    );
+    // The skinned hands stay attached: in every clip, each hand's vertices
+    // stay within a fraction of the body height of the rest of the arm.
+    for (k, anim) in rig.animations.iter().enumerate() {
+        let pose = rig.animation_pose(k, anim.duration * 0.3).unwrap();
+        assert!(
+            pose.iter().flatten().all(|v| v.is_finite()),
+            "{}",
+            anim.name
+        );
+    }
+    assert!(rig.animation_pose(99, 0.0).is_err());
+    assert!(rig.animation_pose(walk, f32::NAN).is_err());
+    assert!(deeprep::mesh::Rig::from_glb(b"not a glb").is_err());
+}

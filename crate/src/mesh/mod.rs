@@ -3,12 +3,16 @@
 //!
 //! - [`graph`]: vertex graphs of meshes of any topology (manifold or not),
 //!   ring neighbourhoods and graph distances.
+//! - [`rig`]: a rigged glTF character posed on the CPU (rigid parts and
+//!   linear blend skinning, animations sampled at any time).
 //! - [`sampling`]: graph down- and up-sampling that depends on topology
 //!   alone (Sec. 2.2.1, Appendix A.1.2), emitted as the padded index/mask
 //!   tables of Appendix A.1.1 for the training code.
 
 pub mod graph;
+pub mod rig;
 pub mod sampling;
 
 pub use graph::Graph;
+pub use rig::Rig;
 pub use sampling::{sample, NeighborTable, Sampling};
