@@ -254,15 +254,44 @@ fn the_robot_poses_with_one_topology() {
         moved > n / 10,
         "walking moves the body: {moved} of {n} vertices"
     );
-    // The skinned hands stay attached: in every clip, each hand's vertices
-    // stay within a fraction of the body height of the rest of the arm.
+    // The skinned hands (parts 15-16 right, 17-18 left; each hand has two
+    // primitives) must be assembled and placed: in the rest pose the hands
+    // mirror each other across x = 0, and in every clip the two primitives
+    // of a hand stay together. (Skinning without the inverse bind matrices
+    // fails both: it puts the left hand at x < 0 and splits each hand.)
+    let centroid = |pose: &[[f32; 3]], part: u32| -> [f32; 3] {
+        let v: Vec<&[f32; 3]> = pose
+            .iter()
+            .zip(&rig.vertex_part)
+            .filter(|(_, p)| **p == part)
+            .map(|(v, _)| v)
+            .collect();
+        std::array::from_fn(|i| v.iter().map(|p| p[i]).sum::<f32>() / v.len() as f32)
+    };
+    let dist = |a: [f32; 3], b: [f32; 3]| (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f32>().sqrt();
+    let (r, l) = (centroid(&rest, 15), centroid(&rest, 17));
+    assert!(
+        (r[0] + l[0]).abs() < 0.05 * size[1] && (r[1] - l[1]).abs() < 0.05 * size[1],
+        "hands not mirrored: {r:?} {l:?}"
+    );
+    assert!(r[0].signum() != l[0].signum());
     for (k, anim) in rig.animations.iter().enumerate() {
-        let pose = rig.animation_pose(k, anim.duration * 0.3).unwrap();
-        assert!(
-            pose.iter().flatten().all(|v| v.is_finite()),
-            "{}",
-            anim.name
-        );
+        for f in [0.0, 0.3, 0.7] {
+            let pose = rig.animation_pose(k, anim.duration * f).unwrap();
+            assert!(
+                pose.iter().flatten().all(|v| v.is_finite()),
+                "{}",
+                anim.name
+            );
+            for (a, b) in [(15, 16), (17, 18)] {
+                let d = dist(centroid(&pose, a), centroid(&pose, b));
+                assert!(
+                    d < 0.1 * size[1],
+                    "{} at {f}: hand parts {a} and {b} are {d} apart",
+                    anim.name
+                );
+            }
+        }
     }
     assert!(rig.animation_pose(99, 0.0).is_err());
     assert!(rig.animation_pose(walk, f32::NAN).is_err());
