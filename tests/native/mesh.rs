@@ -297,3 +297,53 @@ fn the_robot_poses_with_one_topology() {
     assert!(rig.animation_pose(walk, f32::NAN).is_err());
     assert!(deeprep::mesh::Rig::from_glb(b"not a glb").is_err());
 }
+
+#[test]
+fn welding_and_connecting_components() {
+    use deeprep::mesh::graph::{connect_components, weld};
+    // Two triangles sharing an edge, stored with split vertices (4 and 5
+    // duplicate 1 and 2), plus a third triangle far away and a fourth close
+    // to the first pair.
+    let p = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0], // 0 1 2
+        [1.0, 1.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0], // 3 4 5 (4 = 1, 5 = 2)
+        [10.0, 0.0, 0.0],
+        [11.0, 0.0, 0.0],
+        [10.0, 1.0, 0.0], // far
+        [1.2, 1.0, 0.0],
+        [2.2, 1.0, 0.0],
+        [1.2, 2.0, 0.0], // near vertex 3
+    ];
+    let (map, n) = weld(&p, 1e-4);
+    assert_eq!(n, 10);
+    assert_eq!((map[4], map[5]), (map[1], map[2]));
+    let tris: Vec<[usize; 3]> = [[0, 1, 2], [3, 5, 4], [6, 7, 8], [9, 10, 11]]
+        .iter()
+        .map(|t| [map[t[0]], map[t[1]], map[t[2]]])
+        .collect();
+    let g = Graph::from_triangles(n, &tris).unwrap();
+    let mut wp = vec![[0.0f32; 3]; n];
+    for (v, &w) in map.iter().enumerate() {
+        wp[w] = p[v];
+    }
+    assert_eq!(
+        g.components().iter().max(),
+        Some(&2),
+        "three components after welding"
+    );
+    let (c, added) = connect_components(&g, &wp, 0.5).unwrap();
+    // The close pair (3 and 9, 0.2 apart) is joined by the "close" rule; the
+    // far triangle by the spanning rule, at the closest pair left: 10 (2.2, 1)
+    // to 8 (10, 1), 7.8 apart (the first pair's 1 to 6 is 9 apart).
+    let mut want = vec![(map[3], map[9]), (map[8].min(map[10]), map[8].max(map[10]))];
+    want.sort();
+    let mut got = added.clone();
+    got.sort();
+    assert_eq!(got, want);
+    assert!(c.components().iter().all(|&l| l == 0));
+    assert!(connect_components(&g, &wp[1..], 0.5).is_err());
+}

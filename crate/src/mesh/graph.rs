@@ -137,3 +137,93 @@ impl Graph {
         label
     }
 }
+
+/// Welds vertices that share a position (within `eps`): returns the new
+/// index of every vertex and the number of welded vertices. Meshes split at
+/// normal or UV seams become one surface again.
+pub fn weld(positions: &[[f32; 3]], eps: f32) -> (Vec<usize>, usize) {
+    let q = |v: f32| (v / eps.max(f32::MIN_POSITIVE)).round() as i64;
+    let mut first = std::collections::HashMap::new();
+    let mut map = Vec::with_capacity(positions.len());
+    for p in positions {
+        let key = (q(p[0]), q(p[1]), q(p[2]));
+        let next = first.len();
+        map.push(*first.entry(key).or_insert(next));
+    }
+    let n = first.len();
+    (map, n)
+}
+
+/// Connects the components of `graph` (thesis Sec. 2.3.5: "an edge between
+/// each pair of close components"): every pair of components whose closest
+/// vertices are within `near` gets an edge between those vertices; then,
+/// if the graph is still split, the closest pairs join the remaining parts
+/// (a minimum spanning tree over components). Returns the added edges.
+pub fn connect_components(
+    graph: &Graph,
+    positions: &[[f32; 3]],
+    near: f32,
+) -> Result<(Graph, Vec<(usize, usize)>)> {
+    if positions.len() != graph.len() {
+        return Err(Error::Invalid(format!(
+            "connect_components: {} positions for {} vertices",
+            positions.len(),
+            graph.len()
+        )));
+    }
+    let label = graph.components();
+    let k = label.iter().max().map_or(0, |m| m + 1);
+    let mut members = vec![Vec::new(); k];
+    for (v, &c) in label.iter().enumerate() {
+        members[c].push(v);
+    }
+    let d2 = |a: usize, b: usize| -> f32 {
+        (0..3)
+            .map(|i| (positions[a][i] - positions[b][i]).powi(2))
+            .sum()
+    };
+    // Closest vertex pair per component pair.
+    let mut pairs = Vec::new();
+    for a in 0..k {
+        for b in a + 1..k {
+            let mut best = (f32::INFINITY, 0, 0);
+            for &u in &members[a] {
+                for &w in &members[b] {
+                    let d = d2(u, w);
+                    if d < best.0 {
+                        best = (d, u, w);
+                    }
+                }
+            }
+            pairs.push((best.0.sqrt(), a, b, best.1, best.2));
+        }
+    }
+    pairs.sort_by(|x, y| x.0.total_cmp(&y.0).then((x.1, x.2).cmp(&(y.1, y.2))));
+    // Union-find over components.
+    let mut parent: Vec<usize> = (0..k).collect();
+    fn find(p: &mut [usize], x: usize) -> usize {
+        let mut r = x;
+        while p[r] != r {
+            r = p[r];
+        }
+        let mut y = x;
+        while p[y] != r {
+            let next = p[y];
+            p[y] = r;
+            y = next;
+        }
+        r
+    }
+    let mut added = Vec::new();
+    for &(d, a, b, u, w) in &pairs {
+        let joins = find(&mut parent, a) != find(&mut parent, b);
+        if d <= near || joins {
+            added.push((u.min(w), u.max(w)));
+            let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
+            parent[ra] = rb;
+        }
+    }
+    let mut edges = graph.edges();
+    edges.extend(&added);
+    Ok((Graph::from_edges(graph.len(), &edges)?, added))
+}
