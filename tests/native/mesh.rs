@@ -347,3 +347,51 @@ fn welding_and_connecting_components() {
     assert!(c.components().iter().all(|&l| l == 0));
     assert!(connect_components(&g, &wp[1..], 0.5).is_err());
 }
+
+/// The robot's autoencoder topology: welded, one component, levels that
+/// shrink to a handful of latent vertices at the hands, feet, head, torso.
+#[test]
+fn the_robot_topology_samples_down_to_latent_vertices() {
+    let p = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../shared/data/gltf/RobotExpressive.glb");
+    let Ok(bytes) = std::fs::read(&p) else {
+        eprintln!("SKIP: ../shared/data/gltf/RobotExpressive.glb is absent");
+        return;
+    };
+    let rig = deeprep::mesh::Rig::from_glb(&bytes).unwrap();
+    let seeds = [
+        "Palm2.L",
+        "Palm2.R",
+        "Foot.L_end",
+        "Foot.R_end",
+        "Head_end",
+        "Abdomen",
+    ];
+    let t = deeprep::mesh::Topology::new(&rig, 1e-5, 0.05, 2, 2, 12, &seeds).unwrap();
+    let sizes: Vec<usize> = std::iter::once(t.rest.len())
+        .chain(t.levels.iter().map(|l| l.selected.len()))
+        .collect();
+    eprintln!(
+        "welded {} -> {} vertices, {} added edges, levels {sizes:?}",
+        rig.vertex_count(),
+        t.rest.len(),
+        t.added_edges.len()
+    );
+    assert!(
+        t.rest.len() < rig.vertex_count(),
+        "welding merges split vertices"
+    );
+    assert!(t.graph.components().iter().all(|&c| c == 0));
+    assert!(sizes.windows(2).all(|w| w[1] < w[0]));
+    assert!(*sizes.last().unwrap() <= 12);
+    for l in &t.levels {
+        assert!(
+            l.graph.components().iter().all(|&c| c == 0),
+            "every level stays connected"
+        );
+    }
+    let pose = rig.animation_pose(0, 0.5).unwrap();
+    assert_eq!(t.weld_pose(&pose).unwrap().len(), t.rest.len());
+    assert!(t.weld_pose(&pose[1..]).is_err());
+    assert!(deeprep::mesh::Topology::new(&rig, 1e-5, 0.05, 2, 2, 12, &["Nope"]).is_err());
+}

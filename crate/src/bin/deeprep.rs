@@ -29,7 +29,164 @@ const USAGE: &str = "usage:
       skeleton; frames between the first and last key are synthesized, the others copied
   deeprep inbetween KEYS.json --frames N [-o OUT.bvh] [--models DIR] [--no-post]
       KEYS.json: {\"keys\": [{\"frame\": F, \"channels\": [...]}, ...]} (BVH channels of the
-      model's skeleton); without arguments, runs the bundled example models/examples/keys.json";
+      model's skeleton); without arguments, runs the bundled example models/examples/keys.json
+  deeprep mesh topology ROBOT.glb --out TOPOLOGY.json
+      the mesh autoencoder's topology: welded vertices, triangles, connected edge graph,
+      sampling levels (s = 2, r = 2) with padded index/mask tables, latent seed vertices
+  deeprep mesh poses ROBOT.glb --out PREFIX [--fps N] [--random N] [--seed S]
+      every animation clip sampled at N fps (default 30) plus N random poses (default 0;
+      each joint turned up to 30 degrees from a random clip frame), welded:
+      PREFIX.f32 (poses x vertices x 3, little-endian) and PREFIX.json (clip per pose)";
+
+const SEED_NODES: [&str; 6] = [
+    "Palm2.L",
+    "Palm2.R",
+    "Foot.L_end",
+    "Foot.R_end",
+    "Head_end",
+    "Abdomen",
+];
+
+fn robot(path: &str) -> Result<(deeprep::mesh::Rig, deeprep::mesh::Topology), String> {
+    let bytes = std::fs::read(path).map_err(|e| format!("{path}: {e}"))?;
+    let rig = deeprep::mesh::Rig::from_glb(&bytes).map_err(|e| format!("{path}: {e}"))?;
+    let topo = deeprep::mesh::Topology::new(&rig, 1e-5, 0.05, 2, 2, 12, &SEED_NODES)
+        .map_err(|e| format!("{path}: {e}"))?;
+    Ok((rig, topo))
+}
+
+fn mesh_topology(path: &str, out: &str) -> Result<(), String> {
+    let (rig, t) = robot(path)?;
+    let table = |n: &deeprep::mesh::NeighborTable| serde_json::json!({"rows": n.rows, "width": n.width, "indices": n.indices, "mask": n.mask});
+    let levels: Vec<serde_json::Value> = t
+        .levels
+        .iter()
+        .map(|l| {
+            serde_json::json!({
+                "stride": l.stride, "radius": l.radius, "selected": l.selected,
+                "edges": l.graph.edges(), "down": table(&l.down), "up": table(&l.up),
+            })
+        })
+        .collect();
+    let doc = serde_json::json!({
+        "source": path,
+        "rig_vertices": rig.vertex_count(),
+        "weld_map": t.weld_map,
+        "rest": t.rest,
+        "triangles": t.triangles,
+        "edges": t.graph.edges(),
+        "added_edges": t.added_edges,
+        "seeds": t.seeds,
+        "levels": levels,
+        "layout": "levels[k].down: one row per vertex of level k+1 (indices into level k); levels[k].up: one row per vertex of level k (indices into level k+1); level 0 is the welded mesh",
+    });
+    std::fs::write(out, doc.to_string()).map_err(|e| format!("{out}: {e}"))?;
+    let sizes: Vec<usize> = std::iter::once(t.rest.len())
+        .chain(t.levels.iter().map(|l| l.selected.len()))
+        .collect();
+    eprintln!(
+        "wrote {out}: {} rig vertices welded to {}, {} edges added, levels {sizes:?}",
+        rig.vertex_count(),
+        t.rest.len(),
+        t.added_edges.len()
+    );
+    Ok(())
+}
+
+fn mesh_poses(path: &str, rest: &[&str]) -> Result<(), String> {
+    let (mut out, mut fps, mut random, mut seed) = (None, 30.0f32, 0usize, 1u64);
+    let mut i = 0;
+    while i < rest.len() {
+        let val = rest
+            .get(i + 1)
+            .ok_or_else(|| format!("{} needs a value", rest[i]))?;
+        match rest[i] {
+            "--out" => out = Some(val.to_string()),
+            "--fps" => {
+                fps = val
+                    .parse()
+                    .map_err(|_| format!("--fps expects a number, got '{val}'"))?
+            }
+            "--random" => {
+                random = val
+                    .parse()
+                    .map_err(|_| format!("--random expects a count, got '{val}'"))?
+            }
+            "--seed" => {
+                seed = val
+                    .parse()
+                    .map_err(|_| format!("--seed expects an integer, got '{val}'"))?
+            }
+            a => return Err(format!("unknown option '{a}'\n{USAGE}")),
+        }
+        i += 2;
+    }
+    let out = out.ok_or_else(|| format!("--out PREFIX is required\n{USAGE}"))?;
+    if !(fps > 0.0 && fps <= 240.0) {
+        return Err(format!("--fps must be in (0, 240], got {fps}"));
+    }
+    let (rig, t) = robot(path)?;
+    let mut data: Vec<f32> = Vec::new();
+    let mut labels = Vec::new();
+    let mut push = |pose: Vec<[f32; 3]>,
+                    label: serde_json::Value,
+                    data: &mut Vec<f32>|
+     -> Result<(), String> {
+        for p in t.weld_pose(&pose).map_err(|e| e.to_string())? {
+            data.extend_from_slice(&p);
+        }
+        labels.push(label);
+        Ok(())
+    };
+    for (k, a) in rig.animations.iter().enumerate() {
+        let frames = (a.duration * fps).floor() as usize + 1;
+        for f in 0..frames {
+            let pose = rig
+                .animation_pose(k, f as f32 / fps)
+                .map_err(|e| e.to_string())?;
+            push(
+                pose,
+                serde_json::json!({"clip": a.name, "time": f as f32 / fps}),
+                &mut data,
+            )?;
+        }
+    }
+    let mut rng = deeprep::rng::Rng::new(seed);
+    for r in 0..random {
+        let k = (rng.uniform() * rig.animations.len() as f64) as usize % rig.animations.len();
+        let time = rng.uniform() as f32 * rig.animations[k].duration;
+        let mut local = rig.animation_locals(k, time).map_err(|e| e.to_string())?;
+        for l in local.iter_mut() {
+            let axis = glam::Vec3::new(
+                rng.normal() as f32,
+                rng.normal() as f32,
+                rng.normal() as f32,
+            )
+            .normalize_or_zero();
+            let angle = (rng.uniform() as f32) * 30f32.to_radians();
+            if axis != glam::Vec3::ZERO {
+                l.r = (l.r * glam::Quat::from_axis_angle(axis, angle)).normalize();
+            }
+        }
+        let pose = rig.pose(&local).map_err(|e| e.to_string())?;
+        push(
+            pose,
+            serde_json::json!({"clip": "random", "index": r, "from": rig.animations[k].name, "time": time}),
+            &mut data,
+        )?;
+    }
+    let bytes: Vec<u8> = data.iter().flat_map(|v| v.to_le_bytes()).collect();
+    std::fs::write(format!("{out}.f32"), bytes).map_err(|e| format!("{out}.f32: {e}"))?;
+    let meta = serde_json::json!({"source": path, "vertices": t.rest.len(), "poses": labels.len(), "fps": fps, "seed": seed, "labels": labels});
+    std::fs::write(format!("{out}.json"), meta.to_string())
+        .map_err(|e| format!("{out}.json: {e}"))?;
+    eprintln!(
+        "wrote {out}.f32 and {out}.json: {} poses x {} vertices",
+        labels.len(),
+        t.rest.len()
+    );
+    Ok(())
+}
 
 fn load(path: &str) -> Result<Bvh, String> {
     let bytes = std::fs::read(path).map_err(|e| format!("{path}: {e}"))?;
@@ -387,6 +544,8 @@ fn run(args: &[String]) -> Result<(), String> {
         }
         ["bvh", "export", file, "--out", prefix] => export(file, prefix),
         ["inbetween", rest @ ..] => inbetween(rest),
+        ["mesh", "topology", file, "--out", out] => mesh_topology(file, out),
+        ["mesh", "poses", file, rest @ ..] => mesh_poses(file, rest),
         _ => Err(USAGE.to_string()),
     }
 }

@@ -5,6 +5,7 @@
 //!   ring neighbourhoods and graph distances.
 //! - [`rig`]: a rigged glTF character posed on the CPU (rigid parts and
 //!   linear blend skinning, animations sampled at any time).
+//! - [`topology`]: a rig's welded, connected graph and its sampling levels.
 //! - [`sampling`]: graph down- and up-sampling that depends on topology
 //!   alone (Sec. 2.2.1, Appendix A.1.2), emitted as the padded index/mask
 //!   tables of Appendix A.1.1 for the training code.
@@ -12,7 +13,9 @@
 pub mod graph;
 pub mod rig;
 pub mod sampling;
+pub mod topology;
 
 pub use graph::Graph;
 pub use rig::Rig;
 pub use sampling::{sample, NeighborTable, Sampling};
+pub use topology::Topology;
