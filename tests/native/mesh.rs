@@ -395,3 +395,63 @@ fn the_robot_topology_samples_down_to_latent_vertices() {
     assert!(t.weld_pose(&pose[1..]).is_err());
     assert!(deeprep::mesh::Topology::new(&rig, 1e-5, 0.05, 2, 2, 12, &["Nope"]).is_err());
 }
+
+/// The bundled mesh autoencoder: tract matches onnxruntime on both graphs,
+/// and the codec's round trip and local edits keep their contracts.
+#[test]
+fn mesh_codec_matches_onnxruntime() {
+    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
+    let codec =
+        deeprep::mesh::MeshCodec::load_dir(&root.join("models/onnx")).expect("bundled mesh models");
+    let floats = |v: &serde_json::Value| -> Vec<f32> {
+        v.as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap() as f32)
+            .collect()
+    };
+    for name in ["mesh_encoder", "mesh_decoder"] {
+        let f: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(root.join(format!("models/onnx/fixtures/{name}.json")))
+                .unwrap(),
+        )
+        .unwrap();
+        let shape: Vec<usize> = f["input_shape"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_u64().unwrap() as usize)
+            .collect();
+        let m = deeprep::runtime::Model::from_onnx_bytes(
+            &std::fs::read(root.join(format!("models/onnx/{name}.onnx"))).unwrap(),
+        )
+        .unwrap();
+        let out = m
+            .run(&[deeprep::runtime::TensorF32::new(floats(&f["input"]), shape).unwrap()])
+            .unwrap();
+        let d = out[0]
+            .data
+            .iter()
+            .zip(floats(&f["output_onnxruntime"]))
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0f32, f32::max);
+        assert!(d <= 1e-4, "{name}: tract vs onnxruntime {d}");
+    }
+    let (l, c) = codec.latent_shape();
+    let rest = vec![[0.0f32, 1.0, 0.0]; codec.vertices()];
+    let z = codec.encode(&rest).unwrap();
+    assert_eq!(z.len(), l * c);
+    assert_eq!(codec.decode(&z).unwrap().len(), codec.vertices());
+    let z2: Vec<f32> = z.iter().map(|v| v + 1.0).collect();
+    let e = codec.blend_one(&z, &z2, 1, 0.5).unwrap();
+    for (i, (a, b)) in z.iter().zip(&e).enumerate() {
+        if i / c == 1 {
+            assert!((b - a - 0.5).abs() < 1e-6)
+        } else {
+            assert_eq!(a, b)
+        }
+    }
+    assert!(codec.encode(&rest[1..]).is_err());
+    assert!(codec.decode(&z[1..]).is_err());
+    assert!(codec.blend_one(&z, &z2, l, 0.5).is_err());
+}

@@ -1,6 +1,7 @@
 //! Meshes (thesis ch. 2): the fully convolutional mesh autoencoder's graph
 //! machinery, kept free of any network code.
 //!
+//! - [`codec`]: the exported autoencoder run by tract, and local latent edits.
 //! - [`graph`]: vertex graphs of meshes of any topology (manifold or not),
 //!   ring neighbourhoods and graph distances.
 //! - [`rig`]: a rigged glTF character posed on the CPU (rigid parts and
@@ -10,11 +11,13 @@
 //!   alone (Sec. 2.2.1, Appendix A.1.2), emitted as the padded index/mask
 //!   tables of Appendix A.1.1 for the training code.
 
+pub mod codec;
 pub mod graph;
 pub mod rig;
 pub mod sampling;
 pub mod topology;
 
+pub use codec::MeshCodec;
 pub use graph::Graph;
 pub use rig::Rig;
 pub use sampling::{sample, NeighborTable, Sampling};

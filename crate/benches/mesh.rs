@@ -1,0 +1,83 @@
+//! Mesh autoencoder in tract: load + plan time and encode/decode time per
+//! mesh for each exported op form (JSON on stdout). The committed model
+//! (`models/onnx/mesh_{encoder,decoder}.onnx`, form "factored") always runs;
+//! `MESH_FORMS_DIR` may hold `mesh_{encoder,decoder}_{factored,matmul,einsum}.onnx`
+//! from `train/export_mesh.py --form F --suffix _F` for the comparison.
+//! `DEEPREP_BENCH_SMOKE=1` runs each graph once.
+
+use deeprep::runtime::{Model, TensorF32};
+use std::time::Instant;
+
+fn time(path: &std::path::Path, shape: Vec<usize>, reps: usize) -> Option<serde_json::Value> {
+    let bytes = std::fs::read(path).ok()?;
+    let t0 = Instant::now();
+    let m = Model::from_onnx_bytes(&bytes).expect("model loads");
+    let n: usize = shape.iter().product();
+    let x = TensorF32::new(
+        (0..n).map(|i| ((i % 97) as f32 / 97.0) - 0.5).collect(),
+        shape,
+    )
+    .unwrap();
+    m.run(std::slice::from_ref(&x)).expect("first run");
+    let load_ms = t0.elapsed().as_secs_f64() * 1e3;
+    let t1 = Instant::now();
+    for _ in 0..reps {
+        m.run(std::slice::from_ref(&x)).unwrap();
+    }
+    Some(serde_json::json!({
+        "file": path.file_name()?.to_str()?,
+        "bytes": bytes.len(),
+        "load_and_first_run_ms": load_ms,
+        "run_ms": t1.elapsed().as_secs_f64() * 1e3 / reps as f64,
+    }))
+}
+
+fn main() {
+    let smoke = std::env::var("DEEPREP_BENCH_SMOKE").is_ok();
+    let reps = if smoke { 1 } else { 20 };
+    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
+    let manifest: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(root.join("models/onnx/mesh_autoencoder.manifest.json"))
+            .expect("models/onnx/mesh_autoencoder.manifest.json"),
+    )
+    .unwrap();
+    let v = manifest["levels"][0].as_u64().unwrap() as usize;
+    let latent: Vec<usize> = manifest["inputs"]["decoder"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .skip(1)
+        .map(|x| x.as_u64().unwrap() as usize)
+        .collect();
+    let mut rows = Vec::new();
+    let onnx = root.join("models/onnx");
+    rows.push(time(&onnx.join("mesh_encoder.onnx"), vec![1, v, 3], reps));
+    rows.push(time(
+        &onnx.join("mesh_decoder.onnx"),
+        [vec![1], latent.clone()].concat(),
+        reps,
+    ));
+    if let Ok(dir) = std::env::var("MESH_FORMS_DIR") {
+        let dir = std::path::PathBuf::from(dir);
+        for form in ["factored", "matmul", "einsum"] {
+            rows.push(time(
+                &dir.join(format!("mesh_encoder_{form}.onnx")),
+                vec![1, v, 3],
+                reps,
+            ));
+            rows.push(time(
+                &dir.join(format!("mesh_decoder_{form}.onnx")),
+                [vec![1], latent.clone()].concat(),
+                reps,
+            ));
+        }
+    }
+    let rows: Vec<_> = rows.into_iter().flatten().collect();
+    println!(
+        "{}",
+        serde_json::to_string_pretty(
+            &serde_json::json!({"tract_mesh_autoencoder": rows, "threads": 1})
+        )
+        .unwrap()
+    );
+}

@@ -1,0 +1,162 @@
+//! The exported mesh autoencoder run by tract: welded vertex positions in,
+//! a few latent vertices out, and back; plus the local latent edit of
+//! Fig. 2.7 (blend one latent vertex's code between two meshes).
+
+use crate::error::{Error, Result};
+use crate::runtime::{Model, TensorF32};
+use serde::Deserialize;
+
+#[derive(Deserialize)]
+struct Norm {
+    center: [f32; 3],
+    height: f32,
+}
+
+#[derive(Deserialize)]
+struct Manifest {
+    normalization: Norm,
+    levels: Vec<usize>,
+    inputs: Inputs,
+}
+
+#[derive(Deserialize)]
+struct Inputs {
+    decoder: Vec<serde_json::Value>,
+}
+
+/// Encoder and decoder with their normalization.
+pub struct MeshCodec {
+    encoder: Model,
+    decoder: Model,
+    norm: Norm,
+    vertices: usize,
+    latent: (usize, usize),
+}
+
+impl MeshCodec {
+    /// Loads both graphs and `mesh_autoencoder.manifest.json`.
+    pub fn new(encoder: &[u8], decoder: &[u8], manifest_json: &str) -> Result<Self> {
+        let m: Manifest = serde_json::from_str(manifest_json)
+            .map_err(|e| Error::Invalid(format!("mesh manifest: {e}")))?;
+        let dims: Vec<usize> = m
+            .inputs
+            .decoder
+            .iter()
+            .filter_map(|v| v.as_u64())
+            .map(|v| v as usize)
+            .collect();
+        let (&vertices, &[l, c]) = (
+            m.levels
+                .first()
+                .ok_or_else(|| Error::Invalid("mesh manifest: no levels".into()))?,
+            dims.as_slice(),
+        ) else {
+            return Err(Error::Invalid(
+                "mesh manifest: decoder input must be [batch, L, C]".into(),
+            ));
+        };
+        if !(m.normalization.height > 0.0) {
+            return Err(Error::Invalid(
+                "mesh manifest: height must be positive".into(),
+            ));
+        }
+        Ok(MeshCodec {
+            encoder: Model::from_onnx_bytes(encoder)?,
+            decoder: Model::from_onnx_bytes(decoder)?,
+            norm: m.normalization,
+            vertices,
+            latent: (l, c),
+        })
+    }
+
+    /// Loads `mesh_encoder.onnx`, `mesh_decoder.onnx` and the manifest from a folder.
+    pub fn load_dir(dir: &std::path::Path) -> Result<Self> {
+        let read = |n: &str| {
+            std::fs::read(dir.join(n))
+                .map_err(|e| Error::Invalid(format!("{}: {e}", dir.join(n).display())))
+        };
+        let m = String::from_utf8(read("mesh_autoencoder.manifest.json")?)
+            .map_err(|e| Error::Invalid(e.to_string()))?;
+        Self::new(&read("mesh_encoder.onnx")?, &read("mesh_decoder.onnx")?, &m)
+    }
+
+    /// Welded vertices per mesh.
+    pub fn vertices(&self) -> usize {
+        self.vertices
+    }
+
+    /// Latent vertices and channels per latent vertex.
+    pub fn latent_shape(&self) -> (usize, usize) {
+        self.latent
+    }
+
+    /// Latent codes (L × C) of a mesh given as welded positions (V × 3).
+    pub fn encode(&self, positions: &[[f32; 3]]) -> Result<Vec<f32>> {
+        if positions.len() != self.vertices {
+            return Err(Error::Shape {
+                what: "mesh".into(),
+                expected: format!("{} vertices", self.vertices),
+                found: format!("{}", positions.len()),
+            });
+        }
+        let c = self.norm.center;
+        let x: Vec<f32> = positions
+            .iter()
+            .flat_map(|p| (0..3).map(move |i| (p[i] - c[i]) / self.norm.height))
+            .collect();
+        let out = self
+            .encoder
+            .run(&[TensorF32::new(x, vec![1, self.vertices, 3])?])?;
+        Ok(out
+            .into_iter()
+            .next()
+            .ok_or_else(|| Error::Invalid("encoder returned nothing".into()))?
+            .data)
+    }
+
+    /// Welded positions decoded from latent codes (L × C).
+    pub fn decode(&self, latent: &[f32]) -> Result<Vec<[f32; 3]>> {
+        let (l, c) = self.latent;
+        if latent.len() != l * c {
+            return Err(Error::Shape {
+                what: "latent code".into(),
+                expected: format!("{l} × {c}"),
+                found: format!("{}", latent.len()),
+            });
+        }
+        let out = self
+            .decoder
+            .run(&[TensorF32::new(latent.to_vec(), vec![1, l, c])?])?;
+        let y = out
+            .into_iter()
+            .next()
+            .ok_or_else(|| Error::Invalid("decoder returned nothing".into()))?
+            .data;
+        let k = self.norm.center;
+        Ok(y.chunks_exact(3)
+            .map(|p| {
+                [
+                    p[0] * self.norm.height + k[0],
+                    p[1] * self.norm.height + k[1],
+                    p[2] * self.norm.height + k[2],
+                ]
+            })
+            .collect())
+    }
+
+    /// Fig. 2.7's local edit: `a`'s codes with latent vertex `vertex` blended
+    /// towards `b`'s by `t` (0: a, 1: b); the other latent vertices keep `a`'s.
+    pub fn blend_one(&self, a: &[f32], b: &[f32], vertex: usize, t: f32) -> Result<Vec<f32>> {
+        let (l, c) = self.latent;
+        if a.len() != l * c || b.len() != l * c || vertex >= l || !t.is_finite() {
+            return Err(Error::Invalid(format!(
+                "blend_one: codes must be {l} × {c}, vertex < {l}, t finite"
+            )));
+        }
+        let mut out = a.to_vec();
+        for k in 0..c {
+            out[vertex * c + k] = a[vertex * c + k] + t * (b[vertex * c + k] - a[vertex * c + k]);
+        }
+        Ok(out)
+    }
+}
