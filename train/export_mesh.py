@@ -174,7 +174,10 @@ def main():
         write_json(os.path.join(ONNX_DIR, "mesh_autoencoder.manifest.json"), manifest)
         # per-graph manifests for the generic parity test
         for g in ("mesh_encoder", "mesh_decoder"):
-            write_json(os.path.join(ONNX_DIR, f"{g}.manifest.json"), {"name": g, "see": "mesh_autoencoder.manifest.json", **{k: manifest[k] for k in ("normalization", "training_data", "training_code_commit")}})
+            io = {"mesh_encoder": ([{"name": "positions", "shape": manifest["inputs"]["encoder"]}], [{"name": "latent", "shape": manifest["inputs"]["decoder"]}]),
+                  "mesh_decoder": ([{"name": "latent", "shape": manifest["inputs"]["decoder"]}], [{"name": "positions", "shape": manifest["inputs"]["encoder"]}])}[g]
+            write_json(os.path.join(ONNX_DIR, f"{g}.manifest.json"), {"name": g, "see": "mesh_autoencoder.manifest.json", "inputs": io[0], "outputs": io[1],
+                                                                     **{k: manifest[k] for k in ("normalization", "training", "training_data", "training_code_commit")}})
 
 
 if __name__ == "__main__":
