@@ -67,6 +67,8 @@ struct Manifest {
 pub struct IkSolution {
     /// Root positions (the input hips) and local rotations per frame.
     pub motion: Motion,
+    /// The same poses as a BVH clip on the model's skeleton (60 fps).
+    pub bvh: Bvh,
     /// Forward kinematics of the solution: global positions, flat
     /// `frames × joints × 3`.
     pub positions: Vec<f32>,
@@ -265,6 +267,7 @@ impl IkModel {
         }
         Ok(IkSolution {
             motion,
+            bvh,
             positions: rec,
             mean_error: sum / (frames * j) as f64,
             max_error: max,
@@ -273,8 +276,8 @@ impl IkModel {
 
     /// [`Self::solve`], written as a BVH clip on the model's skeleton.
     pub fn solve_to_bvh(&self, positions: &[f32], frames: usize, frame_time: f64) -> Result<Bvh> {
-        self.solve(positions, frames)?
-            .motion
-            .to_bvh(&self.template, frame_time)
+        let mut bvh = self.solve(positions, frames)?.bvh;
+        bvh.frame_time = frame_time;
+        Ok(bvh)
     }
 }

@@ -513,13 +513,9 @@ impl IkSolver {
     /// Solves `frames` poses of global joint positions (`frames × joints × 3`).
     pub fn solve(&self, positions: &[f32], frames: usize) -> Result<IkResult, JsError> {
         let sol = self.inner.solve(positions, frames).map_err(js_err)?;
-        let bvh = sol
-            .motion
-            .to_bvh(self.inner.skeleton(), 1.0 / 60.0)
-            .map_err(js_err)?;
         Ok(IkResult {
-            bvh: bvh.write(),
-            channels: bvh.motion,
+            bvh: sol.bvh.write(),
+            channels: sol.bvh.motion,
             positions: sol.positions,
             mean_error: sol.mean_error,
             max_error: sol.max_error,
