@@ -4,28 +4,16 @@
 
 use deeprep::ik::IkModel;
 use deeprep::skeleton::{fk, Bvh};
-use std::path::PathBuf;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
+mod common;
+use common::{floats, root};
+
+fn fixture() -> serde_json::Value {
+    common::fixture("ik")
 }
 
 fn model() -> IkModel {
     IkModel::load_dir(&root().join("models/onnx")).expect("the bundled IK model loads")
-}
-
-fn fixture() -> serde_json::Value {
-    let p = root().join("models/onnx/fixtures/ik.json");
-    serde_json::from_str(&std::fs::read_to_string(&p).expect("models/onnx/fixtures/ik.json"))
-        .unwrap()
-}
-
-fn floats(v: &serde_json::Value) -> Vec<f32> {
-    v.as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap() as f32)
-        .collect()
 }
 
 fn max_diff(a: &[f32], b: &[f32]) -> f32 {

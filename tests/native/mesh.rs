@@ -6,6 +6,8 @@
 use deeprep::mesh::{sample, Graph};
 use deeprep::rng::Rng;
 
+mod common;
+
 fn path(n: usize) -> Graph {
     let e: Vec<_> = (1..n).map(|i| (i - 1, i)).collect();
     Graph::from_edges(n, &e).unwrap()
@@ -400,42 +402,10 @@ fn the_robot_topology_samples_down_to_latent_vertices() {
 /// and the codec's round trip and local edits keep their contracts.
 #[test]
 fn mesh_codec_matches_onnxruntime() {
-    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
-    let codec =
-        deeprep::mesh::MeshCodec::load_dir(&root.join("models/onnx")).expect("bundled mesh models");
-    let floats = |v: &serde_json::Value| -> Vec<f32> {
-        v.as_array()
-            .unwrap()
-            .iter()
-            .map(|x| x.as_f64().unwrap() as f32)
-            .collect()
-    };
+    let codec = deeprep::mesh::MeshCodec::load_dir(&common::root().join("models/onnx"))
+        .expect("bundled mesh models");
     for name in ["mesh_encoder", "mesh_decoder"] {
-        let f: serde_json::Value = serde_json::from_str(
-            &std::fs::read_to_string(root.join(format!("models/onnx/fixtures/{name}.json")))
-                .unwrap(),
-        )
-        .unwrap();
-        let shape: Vec<usize> = f["input_shape"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|x| x.as_u64().unwrap() as usize)
-            .collect();
-        let m = deeprep::runtime::Model::from_onnx_bytes(
-            &std::fs::read(root.join(format!("models/onnx/{name}.onnx"))).unwrap(),
-        )
-        .unwrap();
-        let out = m
-            .run(&[deeprep::runtime::TensorF32::new(floats(&f["input"]), shape).unwrap()])
-            .unwrap();
-        let d = out[0]
-            .data
-            .iter()
-            .zip(floats(&f["output_onnxruntime"]))
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0f32, f32::max);
-        assert!(d <= 1e-4, "{name}: tract vs onnxruntime {d}");
+        common::fixture_parity(name, 1e-4);
     }
     let (l, c) = codec.latent_shape();
     let rest = vec![[0.0f32, 1.0, 0.0]; codec.vertices()];

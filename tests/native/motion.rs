@@ -9,9 +9,7 @@ use deeprep::motion::{Keyframe, Motion};
 use deeprep::rng::Rng;
 use deeprep::rotation::sample::uniform_so3;
 use deeprep::rotation::{geodesic_distance, Mat3};
-use deeprep::runtime::{Model, TensorF32};
 use deeprep::skeleton::Bvh;
-use std::path::PathBuf;
 
 const NORM: Norm = Norm {
     scale: 100.0,
@@ -19,9 +17,8 @@ const NORM: Norm = Norm {
     dt_clip: 600.0,
 };
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
-}
+mod common;
+use common::root;
 
 fn key(frame: usize, vals: &[f32], mask: &[bool]) -> Keyframe {
     Keyframe {
@@ -186,50 +183,14 @@ fn models() -> Option<TweenModels> {
 }
 
 fn fixture_parity(name: &str) {
-    let p = root().join(format!("models/onnx/fixtures/{name}.json"));
-    let Ok(text) = std::fs::read_to_string(&p) else {
-        eprintln!("SKIP: {} missing", p.display());
+    if !root()
+        .join(format!("models/onnx/fixtures/{name}.json"))
+        .exists()
+    {
+        eprintln!("SKIP: models/onnx/fixtures/{name}.json missing");
         return;
-    };
-    let f: serde_json::Value = serde_json::from_str(&text).unwrap();
-    let floats = |v: &serde_json::Value| -> Vec<f32> {
-        v.as_array()
-            .unwrap()
-            .iter()
-            .map(|x| x.as_f64().unwrap() as f32)
-            .collect()
-    };
-    let shape = |v: &serde_json::Value| -> Vec<usize> {
-        v.as_array()
-            .unwrap()
-            .iter()
-            .map(|x| x.as_u64().unwrap() as usize)
-            .collect()
-    };
-    let inputs: Vec<TensorF32> = f["inputs"]
-        .as_object()
-        .unwrap()
-        .values()
-        .map(|v| TensorF32::new(floats(&v["data"]), shape(&v["shape"])).unwrap())
-        .collect();
-    let model = Model::from_onnx_bytes(
-        &std::fs::read(
-            root()
-                .join("models/onnx")
-                .join(f["model"].as_str().unwrap()),
-        )
-        .unwrap(),
-    )
-    .unwrap();
-    let out = model.run(&inputs).unwrap();
-    let expected = floats(&f["output_onnxruntime"]);
-    let diff = out[0]
-        .data
-        .iter()
-        .zip(&expected)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0f32, f32::max);
-    assert!(diff <= 1e-4, "{name}: tract vs onnxruntime {diff}");
+    }
+    common::fixture_parity(name, 1e-4);
 }
 
 #[test]

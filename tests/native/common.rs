@@ -1,0 +1,62 @@
+//! Helpers shared by the native tests: the repository root and the ONNX
+//! fixtures written by the export scripts (train/export_*.py).
+#![allow(dead_code)]
+
+use deeprep::runtime::{Model, TensorF32};
+use std::path::PathBuf;
+
+/// The repository root.
+pub fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// A JSON array of numbers as f32.
+pub fn floats(v: &serde_json::Value) -> Vec<f32> {
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap() as f32)
+        .collect()
+}
+
+/// A JSON array of non-negative integers (a shape).
+pub fn sizes(v: &serde_json::Value) -> Vec<usize> {
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_u64().unwrap() as usize)
+        .collect()
+}
+
+/// `models/onnx/fixtures/<name>.json`, which must exist.
+pub fn fixture(name: &str) -> serde_json::Value {
+    let p = root().join(format!("models/onnx/fixtures/{name}.json"));
+    let text = std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+    serde_json::from_str(&text).unwrap()
+}
+
+/// Runs `models/onnx/<fixture model>` in tract on the fixture's inputs (the
+/// multi-input `inputs` object, or the single `input`) and asserts that the
+/// first output is within `tol` of onnxruntime's.
+pub fn fixture_parity(name: &str, tol: f32) {
+    let f = fixture(name);
+    let inputs: Vec<TensorF32> = match f["inputs"].as_object() {
+        Some(m) => m
+            .values()
+            .map(|v| TensorF32::new(floats(&v["data"]), sizes(&v["shape"])).unwrap())
+            .collect(),
+        None => vec![TensorF32::new(floats(&f["input"]), sizes(&f["input_shape"])).unwrap()],
+    };
+    let path = root()
+        .join("models/onnx")
+        .join(f["model"].as_str().unwrap());
+    let model = Model::from_onnx_bytes(&std::fs::read(path).unwrap()).unwrap();
+    let out = model.run(&inputs).unwrap();
+    let diff = out[0]
+        .data
+        .iter()
+        .zip(floats(&f["output_onnxruntime"]))
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0f32, f32::max);
+    assert!(diff <= tol, "{name}: tract vs onnxruntime {diff}");
+}
