@@ -1,5 +1,9 @@
 // A tiny static file server for web/ on 127.0.0.1 (no dependencies).
 // Usage: node scripts/serve.mjs [dir] [port]
+// It also serves the shared data set's glTF files, read in place (never
+// copied), at /shared-data/gltf/*.glb: from $DEEPREP_DATA, by default
+// ../shared/data beside the served directory. The mesh page loads the robot
+// from there; without it, the page asks for the file.
 import http from 'node:http';
 import fs from 'node:fs';
 import path from 'node:path';
@@ -8,14 +12,23 @@ const TYPES = {
   '.html': 'text/html; charset=utf-8', '.js': 'text/javascript', '.mjs': 'text/javascript',
   '.wasm': 'application/wasm', '.json': 'application/json', '.onnx': 'application/octet-stream',
   '.css': 'text/css', '.png': 'image/png', '.bvh': 'text/plain', '.ts': 'text/plain',
+  '.glb': 'model/gltf-binary',
 };
 
 export function serve(dir, port = 0, host = '127.0.0.1') {
   const root = path.resolve(dir);
+  const data = path.resolve(process.env.DEEPREP_DATA || path.join(root, '..', 'shared', 'data'));
   const server = http.createServer((req, res) => {
     const url = new URL(req.url, 'http://x');
-    let p = path.normalize(path.join(root, decodeURIComponent(url.pathname)));
-    if (!p.startsWith(root)) { res.writeHead(403); res.end(); return; }
+    const pathname = decodeURIComponent(url.pathname);
+    let p;
+    if (pathname.startsWith('/shared-data/gltf/') && pathname.endsWith('.glb')) {
+      p = path.normalize(path.join(data, pathname.slice('/shared-data'.length)));
+      if (!p.startsWith(path.join(data, 'gltf'))) { res.writeHead(403); res.end(); return; }
+    } else {
+      p = path.normalize(path.join(root, pathname));
+      if (!p.startsWith(root)) { res.writeHead(403); res.end(); return; }
+    }
     if (fs.existsSync(p) && fs.statSync(p).isDirectory()) p = path.join(p, 'index.html');
     fs.readFile(p, (err, data) => {
       if (err) { res.writeHead(404); res.end('not found'); return; }

@@ -10,6 +10,7 @@ Split: by clip (TEST_CLIPS are held out from both pose files' clip frames)
 and by random seed (seed 1 random poses train, seed 2 test).
 
 Usage: train/.venv/bin/python train/train_mesh.py --minutes 10 [--residual vd|avg|none] [--threads 1]
+       train/.venv/bin/python train/train_mesh.py --steps 4602 --residual avg   (equal-step ablation)
 Writes train/cache/mesh/<name>.pt and adds a row to docs/mesh_results.json.
 """
 import argparse
@@ -46,6 +47,7 @@ def laplacian(x, nbr, nmask):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--minutes", type=float, default=10)
+    ap.add_argument("--steps", type=int, default=0, help="train exactly this many steps instead of --minutes (for equal-budget ablations)")
     ap.add_argument("--residual", default="vd", choices=["vd", "avg", "none"])
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--batch", type=int, default=16)
@@ -82,7 +84,7 @@ def main():
     g = torch.Generator().manual_seed(args.seed)
     t0, step = time.time(), 0
     name = {"vd": "full", "avg": "avgpool", "none": "noresidual"}[args.residual]
-    while time.time() - t0 < args.minutes * 60:
+    while (step < args.steps) if args.steps else (time.time() - t0 < args.minutes * 60):
         idx = torch.randint(0, len(xtr), (args.batch,), generator=g)
         x = xtr[idx]
         y = net(x)
@@ -96,7 +98,7 @@ def main():
     net.eval()
     with torch.no_grad():
         errs = torch.cat([(net(xte[i:i + 32]) - xte[i:i + 32]).norm(dim=-1) for i in range(0, len(xte), 32)]) * height
-    res = {"model": name, "steps": step, "minutes": args.minutes, "params": params, "train_poses": len(xtr), "test_poses": len(xte),
+    res = {"model": name, "steps": step, "minutes": round((time.time() - t0) / 60, 1), "params": params, "train_poses": len(xtr), "test_poses": len(xte),
            "mean_error": errs.mean().item(), "max_error": errs.max().item(), "mean_error_pct_bbox": 100 * errs.mean().item() / bbox,
            "latent": list(net.encode(xte[:1]).shape[1:]), "units": "glTF units (the robot is %.2f tall)" % height}
     print(json.dumps(res), flush=True)

@@ -523,6 +523,170 @@ impl IkSolver {
     }
 }
 
+/// The mesh autoencoder (thesis ch. 2) with the rig it was trained on
+/// (RobotExpressive.glb): poses the robot, encodes its welded mesh into a
+/// few latent vertices, decodes, and edits one latent vertex's code (Fig. 2.7).
+/// Positions are flat `vertices × 3` arrays of the welded mesh.
+#[wasm_bindgen]
+pub struct MeshLab {
+    rig: crate::mesh::Rig,
+    topo: crate::mesh::Topology,
+    codec: crate::mesh::MeshCodec,
+}
+
+fn flat3(p: &[[f32; 3]]) -> Vec<f32> {
+    p.iter().flat_map(|v| v.iter().copied()).collect()
+}
+
+#[wasm_bindgen]
+impl MeshLab {
+    /// Loads the rig (`.glb` bytes) and the autoencoder (encoder and decoder
+    /// `.onnx` bytes, `mesh_autoencoder.manifest.json` text). Fails when the
+    /// rig's welded mesh is not the one the model was trained on.
+    #[wasm_bindgen(constructor)]
+    pub fn new(
+        glb: &[u8],
+        encoder: &[u8],
+        decoder: &[u8],
+        manifest: &str,
+    ) -> Result<MeshLab, JsError> {
+        install_panic_hook();
+        let rig = crate::mesh::Rig::from_glb(glb).map_err(js_err)?;
+        let topo = crate::mesh::Topology::robot(&rig).map_err(js_err)?;
+        let codec = crate::mesh::MeshCodec::new(encoder, decoder, manifest).map_err(js_err)?;
+        if topo.rest.len() != codec.vertices() || topo.levels.len() + 1 != codec.levels() {
+            return Err(JsError::new(&format!(
+                "this glTF welds to {} vertices in {} levels; the mesh model was trained on RobotExpressive.glb ({} vertices, {} levels)",
+                topo.rest.len(),
+                topo.levels.len() + 1,
+                codec.vertices(),
+                codec.levels()
+            )));
+        }
+        Ok(MeshLab { rig, topo, codec })
+    }
+
+    /// Welded vertex count.
+    #[wasm_bindgen(getter, js_name = vertexCount)]
+    pub fn vertex_count(&self) -> usize {
+        self.topo.rest.len()
+    }
+
+    /// Triangles over welded vertices (3 indices each).
+    #[wasm_bindgen(getter)]
+    pub fn triangles(&self) -> Vec<u32> {
+        self.topo
+            .triangles
+            .iter()
+            .flat_map(|t| t.map(|i| i as u32))
+            .collect()
+    }
+
+    /// The animation clips' names.
+    #[wasm_bindgen(getter, js_name = clipNames)]
+    pub fn clip_names(&self) -> Vec<String> {
+        self.rig.animations.iter().map(|a| a.name.clone()).collect()
+    }
+
+    /// The clips' durations in seconds.
+    #[wasm_bindgen(getter, js_name = clipDurations)]
+    pub fn clip_durations(&self) -> Vec<f32> {
+        self.rig.animations.iter().map(|a| a.duration).collect()
+    }
+
+    /// Welded vertex index of each latent vertex.
+    #[wasm_bindgen(getter, js_name = latentVertices)]
+    pub fn latent_vertices(&self) -> Vec<u32> {
+        self.topo
+            .latent_vertices()
+            .into_iter()
+            .map(|v| v as u32)
+            .collect()
+    }
+
+    /// For each latent vertex, the rig node it was seeded at ("" when the
+    /// sampler chose it).
+    #[wasm_bindgen(getter, js_name = latentNames)]
+    pub fn latent_names(&self) -> Vec<String> {
+        self.topo
+            .latent_vertices()
+            .iter()
+            .map(|v| {
+                self.topo
+                    .seeds
+                    .iter()
+                    .find(|s| s.1 == *v)
+                    .map_or(String::new(), |s| s.0.clone())
+            })
+            .collect()
+    }
+
+    /// Per welded vertex, the latent vertex nearest by graph distance.
+    #[wasm_bindgen(getter, js_name = latentRegions)]
+    pub fn latent_regions(&self) -> Vec<u32> {
+        self.topo
+            .latent_regions()
+            .into_iter()
+            .map(|v| v as u32)
+            .collect()
+    }
+
+    /// Latent codes per latent vertex.
+    #[wasm_bindgen(getter, js_name = latentChannels)]
+    pub fn latent_channels(&self) -> usize {
+        self.codec.latent_shape().1
+    }
+
+    /// The rest pose.
+    #[wasm_bindgen(js_name = restPose)]
+    pub fn rest_pose(&self) -> Vec<f32> {
+        flat3(&self.topo.rest)
+    }
+
+    /// Clip `clip` at `time` seconds (clamped to the clip).
+    #[wasm_bindgen(js_name = clipPose)]
+    pub fn clip_pose(&self, clip: usize, time: f32) -> Result<Vec<f32>, JsError> {
+        let p = self.rig.animation_pose(clip, time).map_err(js_err)?;
+        Ok(flat3(&self.topo.weld_pose(&p).map_err(js_err)?))
+    }
+
+    /// A random pose like the training set's: a random clip frame with every
+    /// joint turned up to `maxDegrees` (30 in training).
+    #[wasm_bindgen(js_name = randomPose)]
+    pub fn random_pose(&self, seed: u32, max_degrees: f32) -> Result<Vec<f32>, JsError> {
+        let mut rng = crate::rng::Rng::new(seed as u64);
+        let (local, _, _) = self
+            .rig
+            .jittered_locals(&mut rng, max_degrees.to_radians())
+            .map_err(js_err)?;
+        let p = self.rig.pose(&local).map_err(js_err)?;
+        Ok(flat3(&self.topo.weld_pose(&p).map_err(js_err)?))
+    }
+
+    /// Latent codes (latent vertices × channels) of a welded pose.
+    pub fn encode(&self, positions: &[f32]) -> Result<Vec<f32>, JsError> {
+        let p = points3(positions, "encode")?;
+        self.codec.encode(&p).map_err(js_err)
+    }
+
+    /// Welded positions from latent codes.
+    pub fn decode(&self, codes: &[f32]) -> Result<Vec<f32>, JsError> {
+        Ok(flat3(&self.codec.decode(codes).map_err(js_err)?))
+    }
+
+    /// Codes `a` with latent vertex `vertex` blended towards `b` by `t`.
+    #[wasm_bindgen(js_name = blendOne)]
+    pub fn blend_one(
+        &self,
+        a: &[f32],
+        b: &[f32],
+        vertex: usize,
+        t: f32,
+    ) -> Result<Vec<f32>, JsError> {
+        self.codec.blend_one(a, b, vertex, t).map_err(js_err)
+    }
+}
+
 /// The wgpu viewer on a canvas: WebGPU when the browser offers it, WebGL2
 /// otherwise (or when forced). It draws the current pose, keyframe poses in
 /// a second color, the root trajectory as dots on the ground, and a grid.
@@ -541,6 +705,28 @@ pub struct Viewer {
     parents: Vec<Option<usize>>,
     selected: Option<usize>,
     backend: String,
+}
+
+/// Per-vertex values in [0, max] as ramp colors (empty: none).
+fn value_colors(values: &[f32], max: f32, n: usize) -> Result<Vec<[f32; 4]>, JsError> {
+    if values.is_empty() {
+        return Ok(Vec::new());
+    }
+    if values.len() != n {
+        return Err(JsError::new(&format!(
+            "viewer: {} values for {n} vertices",
+            values.len()
+        )));
+    }
+    if !(max.is_finite() && max > 0.0) {
+        return Err(JsError::new(&format!(
+            "viewer: the color scale's maximum must be positive, got {max}"
+        )));
+    }
+    Ok(values
+        .iter()
+        .map(|v| crate::viewer::scene::colors::ramp(v / max))
+        .collect())
 }
 
 fn parents_from(parents: &[i32]) -> Vec<Option<usize>> {
@@ -759,7 +945,99 @@ impl Viewer {
         self.camera.zoom(factor);
     }
 
-    /// Aims the camera at all drawn poses and the trajectory.
+    /// Draws one triangle mesh (replacing any other): `positions` (vertices
+    /// × 3), `triangles` (vertex indices, 3 per triangle), and optionally a
+    /// value per vertex shown as colors from blue-grey (0) to red (`max` and
+    /// above); empty `values` draw the mesh in one color.
+    #[wasm_bindgen(js_name = setMesh)]
+    pub fn set_mesh(
+        &mut self,
+        positions: &[f32],
+        triangles: &[u32],
+        values: &[f32],
+        max: f32,
+    ) -> Result<(), JsError> {
+        let pts = points3(positions, "mesh")?;
+        if triangles.len() % 3 != 0 {
+            return Err(JsError::new("viewer: triangles need 3 indices each"));
+        }
+        if let Some(&bad) = triangles.iter().find(|&&i| i as usize >= pts.len()) {
+            return Err(JsError::new(&format!(
+                "viewer: triangle index {bad} is out of range ({} vertices)",
+                pts.len()
+            )));
+        }
+        let mut m = crate::viewer::TriMesh::new(pts, triangles.to_vec(), [0.78, 0.8, 0.86, 1.0]);
+        m.vertex_colors = value_colors(values, max, m.positions.len())?;
+        if !m.vertex_colors.is_empty() {
+            m.color = [1.0; 4];
+        }
+        self.scene.meshes = vec![m];
+        Ok(())
+    }
+
+    /// Removes the mesh.
+    #[wasm_bindgen(js_name = clearMesh)]
+    pub fn clear_mesh(&mut self) {
+        self.scene.meshes.clear();
+    }
+
+    /// Draws marker spheres of `radius` at `points` (× 3) in place of any
+    /// skeleton poses, e.g. a mesh's latent vertices; `highlight` (−1: none)
+    /// is drawn larger in the selection color. `pickJoint` then picks markers.
+    #[wasm_bindgen(js_name = setMarkers)]
+    pub fn set_markers(
+        &mut self,
+        points: &[f32],
+        radius: f32,
+        highlight: i32,
+    ) -> Result<(), JsError> {
+        use crate::viewer::scene::colors;
+        if !(radius.is_finite() && radius > 0.0) {
+            return Err(JsError::new(&format!(
+                "viewer: marker radius must be positive, got {radius}"
+            )));
+        }
+        let pts = points3(points, "markers")?;
+        let mut s =
+            crate::viewer::SkeletonPose::new(pts.clone(), vec![None; pts.len()], colors::LATENT);
+        s.joint_radius = radius;
+        self.scene.skeletons = vec![s];
+        if let Some(p) = usize::try_from(highlight).ok().and_then(|h| pts.get(h)) {
+            let mut h = crate::viewer::SkeletonPose::new(vec![*p], vec![None], colors::SELECTED);
+            h.joint_radius = radius * 1.5;
+            self.scene.skeletons.push(h);
+        }
+        Ok(())
+    }
+
+    /// Sets the ground grid: half-width `extent` and line spacing `step`
+    /// (world units) at height `height`; `extent` 0 hides it.
+    #[wasm_bindgen(js_name = setGrid)]
+    pub fn set_grid(&mut self, extent: f32, step: f32, height: f32) -> Result<(), JsError> {
+        if extent == 0.0 {
+            self.scene.grid = None;
+            return Ok(());
+        }
+        if !(extent > 0.0
+            && step > 0.0
+            && extent.is_finite()
+            && height.is_finite()
+            && extent / step <= 1000.0)
+        {
+            return Err(JsError::new(&format!(
+                "viewer: grid extent {extent} and step {step} must be positive (at most 1000 lines a side)"
+            )));
+        }
+        self.scene.grid = Some(crate::viewer::Grid {
+            extent,
+            step,
+            height,
+        });
+        Ok(())
+    }
+
+    /// Aims the camera at everything drawn: poses, markers, the trajectory and the mesh.
     pub fn frame(&mut self) {
         let mut pts: Vec<[f32; 3]> = self
             .scene
@@ -768,6 +1046,12 @@ impl Viewer {
             .flat_map(|s| s.positions.iter().copied())
             .collect();
         pts.extend(self.scene.trajectory.iter().copied());
+        pts.extend(
+            self.scene
+                .meshes
+                .iter()
+                .flat_map(|m| m.positions.iter().copied()),
+        );
         self.camera.frame(&pts);
     }
 

@@ -425,3 +425,80 @@ fn mesh_codec_matches_onnxruntime() {
     assert!(codec.decode(&z[1..]).is_err());
     assert!(codec.blend_one(&z, &z2, l, 0.5).is_err());
 }
+
+/// The bundled autoencoder on the robot: a held-out clip pose comes back
+/// close, and Fig. 2.7's edit (one latent vertex's code moved towards
+/// another pose) moves that latent vertex's region more than the rest.
+#[test]
+fn the_robot_reconstructs_and_one_latent_vertex_edits_locally() {
+    let p = common::root().join("../shared/data/gltf/RobotExpressive.glb");
+    let Ok(bytes) = std::fs::read(&p) else {
+        eprintln!("SKIP: ../shared/data/gltf/RobotExpressive.glb is absent");
+        return;
+    };
+    let rig = deeprep::mesh::Rig::from_glb(&bytes).unwrap();
+    let topo = deeprep::mesh::Topology::robot(&rig).unwrap();
+    let codec = deeprep::mesh::MeshCodec::load_dir(&common::root().join("models/onnx")).unwrap();
+    assert_eq!(topo.rest.len(), codec.vertices());
+    let latent = topo.latent_vertices();
+    assert_eq!(latent.len(), codec.latent_shape().0);
+    let kept: Vec<&str> = topo
+        .seeds
+        .iter()
+        .filter(|(_, v)| latent.contains(v))
+        .map(|(n, _)| n.as_str())
+        .collect();
+    eprintln!("latent vertices {latent:?}; seeds kept to the last level: {kept:?}");
+    for name in ["Palm2.L", "Palm2.R", "Foot.L_end", "Foot.R_end", "Head_end"] {
+        assert!(kept.contains(&name), "seed {name} is a latent vertex");
+    }
+    let regions = topo.latent_regions();
+    assert!(regions.iter().all(|&r| r < latent.len()));
+    for (k, &v) in latent.iter().enumerate() {
+        assert_eq!(regions[v], k);
+    }
+
+    let clip = |name: &str| rig.animations.iter().position(|a| a.name == name).unwrap();
+    // Wave and Punch are held out of training.
+    let a = topo
+        .weld_pose(&rig.animation_pose(clip("Wave"), 0.8).unwrap())
+        .unwrap();
+    let b = topo
+        .weld_pose(&rig.animation_pose(clip("Punch"), 0.4).unwrap())
+        .unwrap();
+    let (za, zb) = (codec.encode(&a).unwrap(), codec.encode(&b).unwrap());
+    let ra = codec.decode(&za).unwrap();
+    let dist = |p: &[f32; 3], q: &[f32; 3]| {
+        ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
+    };
+    let err: f32 = a.iter().zip(&ra).map(|(p, q)| dist(p, q)).sum::<f32>() / a.len() as f32;
+    eprintln!("held-out Wave pose: mean reconstruction error {err:.4} units");
+    assert!(err < 0.3, "reconstruction error {err}");
+
+    for (name, v) in topo
+        .seeds
+        .iter()
+        .filter(|(n, _)| kept.contains(&n.as_str()))
+    {
+        let k = latent.iter().position(|x| x == v).unwrap();
+        let e = codec
+            .decode(&codec.blend_one(&za, &zb, k, 1.0).unwrap())
+            .unwrap();
+        let (mut inside, mut n_in, mut outside, mut n_out) = (0.0f32, 0, 0.0f32, 0);
+        for (i, (p, q)) in ra.iter().zip(&e).enumerate() {
+            if regions[i] == k {
+                inside += dist(p, q);
+                n_in += 1;
+            } else {
+                outside += dist(p, q);
+                n_out += 1;
+            }
+        }
+        let (mi, mo) = (inside / n_in as f32, outside / n_out as f32);
+        eprintln!("edit of latent {k} ({name}): mean displacement {mi:.4} in its region ({n_in} vertices), {mo:.4} elsewhere");
+        assert!(
+            mi > 1.5 * mo,
+            "the edit of {name}'s latent vertex is not local: {mi} in its region, {mo} elsewhere"
+        );
+    }
+}

@@ -85,6 +85,28 @@ fn framing_keeps_every_point_on_screen() {
     }
 }
 
+/// The mesh tab frames a robot 4.5 units tall as tightly as a 170-unit
+/// skeleton: framing does not assume the skeleton's scale.
+#[test]
+fn framing_works_at_any_scale() {
+    for scale in [0.01f32, 1.0, 100.0] {
+        let mut cam = OrbitCamera::default();
+        let (p, _) = figure(300.0);
+        let p: Vec<[f32; 3]> = p.iter().map(|q| q.map(|v| v * scale)).collect();
+        cam.frame(&p);
+        let xs: Vec<[f32; 3]> = p
+            .iter()
+            .map(|q| cam.project(*q, 640.0, 480.0).unwrap())
+            .collect();
+        let h = xs.iter().map(|s| s[1]).fold(f32::MIN, f32::max)
+            - xs.iter().map(|s| s[1]).fold(f32::MAX, f32::min);
+        assert!(xs
+            .iter()
+            .all(|s| s[0] > 0.0 && s[0] < 640.0 && s[1] > 0.0 && s[1] < 480.0));
+        assert!(h > 120.0, "at scale {scale} the figure is only {h} px tall");
+    }
+}
+
 #[test]
 fn picking_finds_the_joint_under_the_cursor() {
     let s = scene();
@@ -162,4 +184,56 @@ fn headless_render_draws_the_scene() {
     std::fs::write(&out, ppm).unwrap();
     eprintln!("wrote {}", out.display());
     assert!(h.render(&s, &cam, 0, 10).is_err());
+}
+
+/// Per-vertex colors: a quad whose left vertices are at the ramp's low end
+/// and right vertices at its high end draws both ends' hues; the same quad
+/// without vertex colors draws neither.
+#[test]
+fn headless_render_shows_vertex_colors() {
+    use deeprep::viewer::scene::colors::ramp;
+    let mut h = Headless::new().expect("a wgpu adapter (setup.sh installs Mesa's lavapipe)");
+    let quad = vec![
+        [-1.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 2.0, 0.0],
+        [-1.0, 2.0, 0.0],
+    ];
+    let mut m = deeprep::viewer::TriMesh::new(quad.clone(), vec![0, 1, 2, 0, 2, 3], [1.0; 4]);
+    m.vertex_colors = vec![ramp(0.0), ramp(1.0), ramp(1.0), ramp(0.0)];
+    let mut s = deeprep::viewer::Scene {
+        grid: None,
+        meshes: vec![m.clone()],
+        ..Default::default()
+    };
+    let mut cam = OrbitCamera {
+        yaw: 0.0,
+        pitch: 0.0,
+        ..Default::default()
+    };
+    cam.frame(&quad);
+    let count = |img: &[u8]| {
+        let (mut red, mut blue) = (0, 0);
+        for p in img.chunks_exact(4) {
+            let [r, g, b] = [p[0] as i32, p[1] as i32, p[2] as i32];
+            if r > 120 && r > g + 60 && r > b + 60 {
+                red += 1;
+            }
+            if b > 100 && b > r + 20 && b > g {
+                blue += 1;
+            }
+        }
+        (red, blue)
+    };
+    let (red, blue) = count(&h.render(&s, &cam, 160, 120).unwrap());
+    eprintln!("vertex colors: {red} red, {blue} blue-grey pixels");
+    assert!(red > 200 && blue > 200, "{red} red, {blue} blue-grey");
+    m.vertex_colors.clear();
+    m.color = [0.5, 0.5, 0.5, 1.0];
+    s.meshes = vec![m];
+    let (red, blue) = count(&h.render(&s, &cam, 160, 120).unwrap());
+    assert!(
+        red < 10 && blue < 10,
+        "{red} red, {blue} blue-grey without vertex colors"
+    );
 }

@@ -38,20 +38,10 @@ const USAGE: &str = "usage:
       each joint turned up to 30 degrees from a random clip frame), welded:
       PREFIX.f32 (poses x vertices x 3, little-endian) and PREFIX.json (clip per pose)";
 
-const SEED_NODES: [&str; 6] = [
-    "Palm2.L",
-    "Palm2.R",
-    "Foot.L_end",
-    "Foot.R_end",
-    "Head_end",
-    "Abdomen",
-];
-
 fn robot(path: &str) -> Result<(deeprep::mesh::Rig, deeprep::mesh::Topology), String> {
     let bytes = std::fs::read(path).map_err(|e| format!("{path}: {e}"))?;
     let rig = deeprep::mesh::Rig::from_glb(&bytes).map_err(|e| format!("{path}: {e}"))?;
-    let topo = deeprep::mesh::Topology::new(&rig, 1e-5, 0.05, 2, 2, 12, &SEED_NODES)
-        .map_err(|e| format!("{path}: {e}"))?;
+    let topo = deeprep::mesh::Topology::robot(&rig).map_err(|e| format!("{path}: {e}"))?;
     Ok((rig, topo))
 }
 
@@ -153,21 +143,9 @@ fn mesh_poses(path: &str, rest: &[&str]) -> Result<(), String> {
     }
     let mut rng = deeprep::rng::Rng::new(seed);
     for r in 0..random {
-        let k = (rng.uniform() * rig.animations.len() as f64) as usize % rig.animations.len();
-        let time = rng.uniform() as f32 * rig.animations[k].duration;
-        let mut local = rig.animation_locals(k, time).map_err(|e| e.to_string())?;
-        for l in local.iter_mut() {
-            let axis = glam::Vec3::new(
-                rng.normal() as f32,
-                rng.normal() as f32,
-                rng.normal() as f32,
-            )
-            .normalize_or_zero();
-            let angle = (rng.uniform() as f32) * 30f32.to_radians();
-            if axis != glam::Vec3::ZERO {
-                l.r = (l.r * glam::Quat::from_axis_angle(axis, angle)).normalize();
-            }
-        }
+        let (local, k, time) = rig
+            .jittered_locals(&mut rng, 30f32.to_radians())
+            .map_err(|e| e.to_string())?;
         let pose = rig.pose(&local).map_err(|e| e.to_string())?;
         push(
             pose,

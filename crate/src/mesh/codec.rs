@@ -30,6 +30,7 @@ pub struct MeshCodec {
     decoder: Model,
     norm: Norm,
     vertices: usize,
+    levels: usize,
     latent: (usize, usize),
 }
 
@@ -65,8 +66,14 @@ impl MeshCodec {
             decoder: Model::from_onnx_bytes(decoder)?,
             norm: m.normalization,
             vertices,
+            levels: m.levels.len(),
             latent: (l, c),
         })
+    }
+
+    /// Sampling levels, the full mesh included (the manifest's `levels`).
+    pub fn levels(&self) -> usize {
+        self.levels
     }
 
     /// Loads `mesh_encoder.onnx`, `mesh_decoder.onnx` and the manifest from a folder.

@@ -122,6 +122,29 @@ impl Graph {
         order
     }
 
+    /// Nearest source per vertex by graph distance (multi-source BFS; ties go
+    /// to the earlier source): the index into `sources`, or `usize::MAX` for
+    /// vertices no source reaches. Sources out of range are ignored.
+    pub fn nearest_source(&self, sources: &[usize]) -> Vec<usize> {
+        let mut label = vec![usize::MAX; self.len()];
+        let mut queue = VecDeque::new();
+        for (k, &s) in sources.iter().enumerate() {
+            if s < self.len() && label[s] == usize::MAX {
+                label[s] = k;
+                queue.push_back(s);
+            }
+        }
+        while let Some(u) = queue.pop_front() {
+            for &w in &self.adj[u] {
+                if label[w] == usize::MAX {
+                    label[w] = label[u];
+                    queue.push_back(w);
+                }
+            }
+        }
+        label
+    }
+
     /// Connected component label per vertex (labels in order of first vertex).
     pub fn components(&self) -> Vec<usize> {
         let mut label = vec![usize::MAX; self.len()];

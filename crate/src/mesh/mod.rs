@@ -21,4 +21,4 @@ pub use codec::MeshCodec;
 pub use graph::Graph;
 pub use rig::Rig;
 pub use sampling::{sample, NeighborTable, Sampling};
-pub use topology::Topology;
+pub use topology::{Topology, ROBOT_SEED_NODES};

@@ -297,6 +297,43 @@ impl Rig {
         Ok(local)
     }
 
+    /// A random pose near the clips (the training set's random poses): a
+    /// random clip at a random time, every node turned about a random axis
+    /// by up to `max_angle` radians. Returns the local transforms with the
+    /// clip and time it started from.
+    pub fn jittered_locals(
+        &self,
+        rng: &mut crate::rng::Rng,
+        max_angle: f32,
+    ) -> Result<(Vec<Trs>, usize, f32)> {
+        if self.animations.is_empty() {
+            return Err(Error::Invalid(
+                "random pose: the rig has no animation clips".into(),
+            ));
+        }
+        if !(max_angle.is_finite() && max_angle >= 0.0) {
+            return Err(Error::Invalid(format!(
+                "random pose: angle {max_angle} must be finite and ≥ 0"
+            )));
+        }
+        let k = rng.below(self.animations.len());
+        let time = rng.uniform() as f32 * self.animations[k].duration;
+        let mut local = self.animation_locals(k, time)?;
+        for l in local.iter_mut() {
+            let axis = Vec3::new(
+                rng.normal() as f32,
+                rng.normal() as f32,
+                rng.normal() as f32,
+            )
+            .normalize_or_zero();
+            let angle = (rng.uniform() as f32) * max_angle;
+            if axis != Vec3::ZERO {
+                l.r = (l.r * Quat::from_axis_angle(axis, angle)).normalize();
+            }
+        }
+        Ok((local, k, time))
+    }
+
     /// Global node transforms for local transforms `local`.
     pub fn globals(&self, local: &[Trs]) -> Vec<Mat4> {
         let n = self.parents.len();

@@ -29,7 +29,42 @@ pub struct Topology {
     pub seeds: Vec<(String, usize)>,
 }
 
+/// The nodes of RobotExpressive.glb whose nearest vertices become latent
+/// vertices (thesis Sec. 2.4: hands, feet, head, torso).
+pub const ROBOT_SEED_NODES: [&str; 6] = [
+    "Palm2.L",
+    "Palm2.R",
+    "Foot.L_end",
+    "Foot.R_end",
+    "Head_end",
+    "Abdomen",
+];
+
 impl Topology {
+    /// The topology the bundled mesh autoencoder was trained on: weld at
+    /// 1e-5, join components closer than 0.05, s = 2, r = 2, down to at most
+    /// 12 vertices, seeds at [`ROBOT_SEED_NODES`]. `deeprep mesh topology`
+    /// writes the same thing for the training code.
+    pub fn robot(rig: &Rig) -> Result<Topology> {
+        Topology::new(rig, 1e-5, 0.05, 2, 2, 12, &ROBOT_SEED_NODES)
+    }
+
+    /// Welded indices of the last level's vertices (the latent vertices),
+    /// found by following each level's selection back to the full mesh.
+    pub fn latent_vertices(&self) -> Vec<usize> {
+        let Some(last) = self.levels.last() else {
+            return (0..self.rest.len()).collect();
+        };
+        (0..last.selected.len())
+            .map(|mut v| {
+                for level in self.levels.iter().rev() {
+                    v = level.selected[v];
+                }
+                v
+            })
+            .collect()
+    }
+
     /// Builds the topology of `rig`: welds at `eps`, joins components closer
     /// than `near`, and samples with `stride`/`radius` until at most
     /// `min_vertices` remain, keeping the vertices nearest `seed_nodes`.
@@ -110,6 +145,12 @@ impl Topology {
             levels,
             seeds,
         })
+    }
+
+    /// The region of each welded vertex: the index of its nearest latent
+    /// vertex (in [`Topology::latent_vertices`] order) by graph distance.
+    pub fn latent_regions(&self) -> Vec<usize> {
+        self.graph.nearest_source(&self.latent_vertices())
     }
 
     /// Welded positions of a rig pose.

@@ -77,7 +77,7 @@ impl OrbitCamera {
     /// Zooms: the distance is multiplied by `factor` (> 1 moves away).
     pub fn zoom(&mut self, factor: f32) {
         if factor.is_finite() && factor > 0.0 {
-            self.distance = (self.distance * factor).clamp(1.0, 1e6);
+            self.distance = (self.distance * factor).clamp(1e-2, 1e6);
         }
     }
 
@@ -97,7 +97,9 @@ impl OrbitCamera {
             return;
         }
         self.target = (lo + hi) / 2.0;
-        let radius = ((hi - lo).length() / 2.0).max(10.0);
+        // A lone point (or a tiny cluster) is seen from a few units away.
+        let radius = ((hi - lo).length() / 2.0).max(1e-3);
+        let radius = if radius < 1e-2 { 10.0 } else { radius };
         self.distance = radius / (self.fov_y / 2.0).sin() * 1.1;
     }
 

@@ -16,7 +16,12 @@ const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 struct Vertex {
     pos: [f32; 3],
     normal: [f32; 3],
+    /// Per-vertex tint, multiplied with the instance color (white for
+    /// joints and bones; a mesh's own vertex colors when it has them).
+    tint: [f32; 4],
 }
+
+const WHITE: [f32; 4] = [1.0; 4];
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
@@ -54,7 +59,11 @@ fn sphere_mesh(rings: u32, segments: u32) -> (Vec<Vertex>, Vec<u32>) {
         for s in 0..=segments {
             let ph = 2.0 * std::f32::consts::PI * s as f32 / segments as f32;
             let n = [th.sin() * ph.cos(), th.cos(), th.sin() * ph.sin()];
-            v.push(Vertex { pos: n, normal: n });
+            v.push(Vertex {
+                pos: n,
+                normal: n,
+                tint: WHITE,
+            });
         }
     }
     let w = segments + 1;
@@ -82,10 +91,12 @@ fn bone_mesh(segments: u32) -> (Vec<Vertex>, Vec<u32>) {
         v.push(Vertex {
             pos: [c, 0.0, sn],
             normal: n,
+            tint: WHITE,
         });
         v.push(Vertex {
             pos: [c * top, 1.0, sn * top],
             normal: n,
+            tint: WHITE,
         });
     }
     for s in 0..segments {
@@ -212,6 +223,7 @@ fn draw_lists(scene: &Scene) -> DrawLists {
     }
     for m in &scene.meshes {
         let start = d.mesh_vertices.len() as u32;
+        let colored = m.vertex_colors.len() == m.positions.len();
         for t in m.indices.chunks_exact(3) {
             let Some(p) = t
                 .iter()
@@ -224,10 +236,15 @@ fn draw_lists(scene: &Scene) -> DrawLists {
                 .cross(p[2] - p[0])
                 .normalize_or_zero()
                 .to_array();
-            for q in p {
+            for (q, &i) in p.into_iter().zip(t) {
                 d.mesh_vertices.push(Vertex {
                     pos: q.to_array(),
                     normal: n,
+                    tint: if colored {
+                        m.vertex_colors[i as usize]
+                    } else {
+                        WHITE
+                    },
                 });
             }
         }
@@ -342,7 +359,7 @@ impl Renderer {
         let vertex_layout = wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<Vertex>() as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 7 => Float32x4],
         };
         let instance_layout = wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<Instance>() as u64,

@@ -43,7 +43,8 @@ pub struct LineStrips {
     pub color: [f32; 4],
 }
 
-/// A triangle mesh in one color, drawn lit with flat normals.
+/// A triangle mesh, drawn lit with flat normals: in one color, or with a
+/// color per vertex (e.g. reconstruction error) multiplied by `color`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TriMesh {
     /// Vertex positions.
@@ -52,6 +53,20 @@ pub struct TriMesh {
     pub indices: Vec<u32>,
     /// RGBA, linear.
     pub color: [f32; 4],
+    /// One RGBA per vertex, or empty for `color` alone.
+    pub vertex_colors: Vec<[f32; 4]>,
+}
+
+impl TriMesh {
+    /// A mesh in one color.
+    pub fn new(positions: Vec<[f32; 3]>, indices: Vec<u32>, color: [f32; 4]) -> Self {
+        TriMesh {
+            positions,
+            indices,
+            color,
+            vertex_colors: Vec::new(),
+        }
+    }
 }
 
 /// The ground grid at y = `height`.
@@ -116,6 +131,31 @@ pub mod colors {
     pub const KEY: [f32; 4] = [0.95, 0.45, 0.65, 1.0];
     /// The selected joint.
     pub const SELECTED: [f32; 4] = [1.0, 0.8, 0.2, 1.0];
+    /// Latent vertices of the mesh autoencoder.
+    pub const LATENT: [f32; 4] = [0.2, 0.85, 0.95, 1.0];
+
+    /// A perceptual-ish ramp for a value in [0, 1] (clamped; NaN counts as
+    /// 1): blue-grey at 0, through yellow, to red at 1. Used for per-vertex
+    /// error.
+    pub fn ramp(t: f32) -> [f32; 4] {
+        let t = if t.is_nan() { 1.0 } else { t.clamp(0.0, 1.0) };
+        const STOPS: [[f32; 3]; 4] = [
+            [0.55, 0.62, 0.75],
+            [0.45, 0.80, 0.55],
+            [0.98, 0.85, 0.25],
+            [0.92, 0.22, 0.18],
+        ];
+        let x = t * (STOPS.len() - 1) as f32;
+        let i = (x.floor() as usize).min(STOPS.len() - 2);
+        let f = x - i as f32;
+        let (a, b) = (STOPS[i], STOPS[i + 1]);
+        [
+            a[0] + f * (b[0] - a[0]),
+            a[1] + f * (b[1] - a[1]),
+            a[2] + f * (b[2] - a[2]),
+            1.0,
+        ]
+    }
 }
 
 /// The joint under a pixel: `(skeleton, joint)` of the joint whose sphere

@@ -17,6 +17,7 @@ struct LitIn {
     @location(4) m2: vec4<f32>,
     @location(5) m3: vec4<f32>,
     @location(6) color: vec4<f32>,
+    @location(7) tint: vec4<f32>,
 };
 
 struct LitOut {
@@ -35,7 +36,7 @@ fn vs_lit(v: LitIn) -> LitOut {
     let m3 = mat3x3<f32>(model[0].xyz, model[1].xyz, model[2].xyz);
     let inv_sq = vec3<f32>(1.0 / max(dot(m3[0], m3[0]), 1e-12), 1.0 / max(dot(m3[1], m3[1]), 1e-12), 1.0 / max(dot(m3[2], m3[2]), 1e-12));
     out.normal = normalize(m3 * (v.normal * inv_sq));
-    out.color = v.color;
+    out.color = v.color * v.tint;
     return out;
 }
 

@@ -1,0 +1,65 @@
+// deeprep mesh worker: the mesh autoencoder (MeshLab) off the main thread.
+//   -> {type: 'init', id, glb (ArrayBuffer), modelBase}
+//   <- {type: 'result', id, vertexCount, triangles, clipNames, clipDurations, latentVertices, latentNames, latentRegions, latentChannels}
+//   -> {type: 'pose', id, clip, time} | {type: 'random', id, seed, degrees}   <- {positions}
+//   -> {type: 'encode', id, positions}   <- {codes, recon, encodeMs, decodeMs}
+//   -> {type: 'blend', id, a, b, vertex, t}   <- {positions, decodeMs}
+//   <- {type: 'progress', id, stage} ... | {type: 'error', id, message}
+import init, { MeshLab } from './pkg/deeprep.js';
+
+let lab = null;
+const ready = init();
+
+async function fetchBytes(url) {
+  const r = await fetch(url);
+  if (!r.ok) throw new Error(`${url}: HTTP ${r.status}`);
+  return new Uint8Array(await r.arrayBuffer());
+}
+
+async function handle(msg) {
+  const { id } = msg;
+  await ready;
+  if (msg.type === 'init') {
+    postMessage({ type: 'progress', id, stage: 'loading the mesh autoencoder' });
+    const base = msg.modelBase;
+    const [enc, dec, manifest] = await Promise.all([
+      fetchBytes(`${base}/mesh_encoder.onnx`), fetchBytes(`${base}/mesh_decoder.onnx`),
+      fetch(`${base}/mesh_autoencoder.manifest.json`).then((r) => { if (!r.ok) throw new Error(`mesh manifest: HTTP ${r.status}`); return r.text(); }),
+    ]);
+    postMessage({ type: 'progress', id, stage: 'reading the glTF and sampling its graph' });
+    const next = new MeshLab(new Uint8Array(msg.glb), enc, dec, manifest);
+    if (lab) lab.free();
+    lab = next;
+    return {
+      vertexCount: lab.vertexCount, triangles: lab.triangles, clipNames: lab.clipNames,
+      clipDurations: Array.from(lab.clipDurations), latentVertices: Array.from(lab.latentVertices),
+      latentNames: lab.latentNames, latentRegions: lab.latentRegions, latentChannels: lab.latentChannels,
+    };
+  }
+  if (!lab) throw new Error('load a robot first');
+  if (msg.type === 'pose') return { positions: lab.clipPose(msg.clip, msg.time) };
+  if (msg.type === 'random') return { positions: lab.randomPose(msg.seed >>> 0, msg.degrees) };
+  if (msg.type === 'encode') {
+    const t0 = performance.now();
+    const codes = lab.encode(new Float32Array(msg.positions));
+    const t1 = performance.now();
+    const recon = lab.decode(codes);
+    const t2 = performance.now();
+    return { codes, recon, encodeMs: t1 - t0, decodeMs: t2 - t1 };
+  }
+  if (msg.type === 'blend') {
+    const t0 = performance.now();
+    const positions = lab.decode(lab.blendOne(new Float32Array(msg.a), new Float32Array(msg.b), msg.vertex, msg.t));
+    return { positions, decodeMs: performance.now() - t0 };
+  }
+  throw new Error(`unknown request '${msg.type}'`);
+}
+
+onmessage = async (e) => {
+  const msg = e.data;
+  try {
+    postMessage({ type: 'result', id: msg.id, ...(await handle(msg)) });
+  } catch (err) {
+    postMessage({ type: 'error', id: msg.id, message: String(err && err.message ? err.message : err) });
+  }
+};
