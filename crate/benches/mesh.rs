@@ -3,15 +3,26 @@
 //! (`models/onnx/mesh_{encoder,decoder}.onnx`, form "factored") always runs;
 //! `MESH_FORMS_DIR` may hold `mesh_{encoder,decoder}_{factored,matmul,einsum}.onnx`
 //! from `train/export_mesh.py --form F --suffix _F` for the comparison.
-//! `DEEPREP_BENCH_SMOKE=1` runs each graph once.
+//! The committed graphs run twice: as exported, and with their factored
+//! kernels multiplied out at load (`Model::from_onnx_bytes_folding_factors`,
+//! what `MeshCodec` does). `DEEPREP_BENCH_SMOKE=1` runs each graph once.
 
 use deeprep::runtime::{Model, TensorF32};
 use std::time::Instant;
 
-fn time(path: &std::path::Path, shape: Vec<usize>, reps: usize) -> Option<serde_json::Value> {
+fn time(
+    path: &std::path::Path,
+    shape: Vec<usize>,
+    reps: usize,
+    fold: bool,
+) -> Option<serde_json::Value> {
     let bytes = std::fs::read(path).ok()?;
     let t0 = Instant::now();
-    let m = Model::from_onnx_bytes(&bytes).expect("model loads");
+    let (m, folded) = if fold {
+        Model::from_onnx_bytes_folding_factors(&bytes).expect("model loads")
+    } else {
+        (Model::from_onnx_bytes(&bytes).expect("model loads"), 0)
+    };
     let n: usize = shape.iter().product();
     let x = TensorF32::new(
         (0..n).map(|i| ((i % 97) as f32 / 97.0) - 0.5).collect(),
@@ -27,6 +38,7 @@ fn time(path: &std::path::Path, shape: Vec<usize>, reps: usize) -> Option<serde_
     Some(serde_json::json!({
         "file": path.file_name()?.to_str()?,
         "bytes": bytes.len(),
+        "factors_folded_at_load": folded,
         "load_and_first_run_ms": load_ms,
         "run_ms": t1.elapsed().as_secs_f64() * 1e3 / reps as f64,
     }))
@@ -51,12 +63,20 @@ fn main() {
         .collect();
     let mut rows = Vec::new();
     let onnx = root.join("models/onnx");
-    rows.push(time(&onnx.join("mesh_encoder.onnx"), vec![1, v, 3], reps));
-    rows.push(time(
-        &onnx.join("mesh_decoder.onnx"),
-        [vec![1], latent.clone()].concat(),
-        reps,
-    ));
+    for fold in [false, true] {
+        rows.push(time(
+            &onnx.join("mesh_encoder.onnx"),
+            vec![1, v, 3],
+            reps,
+            fold,
+        ));
+        rows.push(time(
+            &onnx.join("mesh_decoder.onnx"),
+            [vec![1], latent.clone()].concat(),
+            reps,
+            fold,
+        ));
+    }
     if let Ok(dir) = std::env::var("MESH_FORMS_DIR") {
         let dir = std::path::PathBuf::from(dir);
         for form in ["factored", "matmul", "einsum"] {
@@ -64,11 +84,13 @@ fn main() {
                 &dir.join(format!("mesh_encoder_{form}.onnx")),
                 vec![1, v, 3],
                 reps,
+                false,
             ));
             rows.push(time(
                 &dir.join(format!("mesh_decoder_{form}.onnx")),
                 [vec![1], latent.clone()].concat(),
                 reps,
+                false,
             ));
         }
     }

@@ -60,6 +60,34 @@ impl Model {
         })
     }
 
+    /// Parses an ONNX model and multiplies out every `MatMul` of two 2-D
+    /// float initializers, so the product is a constant of the model. This
+    /// is for weights exported in factored form (the mesh autoencoder's
+    /// vcConv kernels W = A·B, Sec. 2.2.2: small to download, large once
+    /// multiplied). tract itself keeps such a product unfolded, since it is
+    /// larger than its factors, and recomputes it on every run; folding
+    /// trades that time for the product's memory. Returns the model and the
+    /// number of products folded.
+    pub fn from_onnx_bytes_folding_factors(bytes: &[u8]) -> Result<(Self, usize)> {
+        use tract_onnx::tract_core::framework::Framework;
+        let onnx = tract_onnx::onnx();
+        let mut r = bytes;
+        let mut proto = onnx.proto_model_for_read(&mut r).map_err(model_err)?;
+        let folded = match proto.graph.as_mut() {
+            Some(g) => fold_constant_matmuls(g)?,
+            None => 0,
+        };
+        let inference = onnx.model_for_proto_model(&proto).map_err(model_err)?;
+        let typed = inference.into_typed().map_err(model_err)?;
+        Ok((
+            Model {
+                typed,
+                plans: Mutex::new(HashMap::new()),
+            },
+            folded,
+        ))
+    }
+
     /// Number of inputs.
     pub fn input_count(&self) -> usize {
         self.typed.inputs.len()
@@ -149,4 +177,81 @@ impl Model {
             .insert(shapes.to_vec(), plan.clone());
         Ok(plan)
     }
+}
+
+/// The values of a 2-D float initializer, with its shape.
+fn matrix(t: &tract_onnx::pb::TensorProto) -> Option<(usize, usize, Vec<f32>)> {
+    const FLOAT: i32 = 1;
+    if t.data_type != FLOAT || t.dims.len() != 2 || t.dims.iter().any(|&d| d < 0) {
+        return None;
+    }
+    let (r, c) = (t.dims[0] as usize, t.dims[1] as usize);
+    let v: Vec<f32> = if !t.raw_data.is_empty() {
+        t.raw_data
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect()
+    } else {
+        t.float_data.clone()
+    };
+    (v.len() == r * c).then_some((r, c, v))
+}
+
+/// Replaces `MatMul(A, B)` of two 2-D float initializers by an initializer
+/// holding the product; drops factors nothing else reads. Returns the count.
+fn fold_constant_matmuls(g: &mut tract_onnx::pb::GraphProto) -> Result<usize> {
+    let mut folded = 0;
+    let nodes = std::mem::take(&mut g.node);
+    let mut kept = Vec::with_capacity(nodes.len());
+    for node in nodes {
+        if node.op_type == "MatMul" && node.input.len() == 2 && node.output.len() == 1 {
+            let find = |name: &str| {
+                g.initializer
+                    .iter()
+                    .find(|t| t.name == name)
+                    .and_then(matrix)
+            };
+            if let (Some((m, k, a)), Some((k2, n, b))) =
+                (find(&node.input[0]), find(&node.input[1]))
+            {
+                if k != k2 {
+                    return Err(Error::Model(format!(
+                        "MatMul {}: factor shapes {m}×{k} and {k2}×{n} do not chain",
+                        node.name
+                    )));
+                }
+                let a = tract_ndarray::Array2::from_shape_vec((m, k), a).map_err(model_err)?;
+                let b = tract_ndarray::Array2::from_shape_vec((k, n), b).map_err(model_err)?;
+                let w = a.dot(&b);
+                g.initializer.push(tract_onnx::pb::TensorProto {
+                    name: node.output[0].clone(),
+                    dims: vec![m as i64, n as i64],
+                    data_type: 1,
+                    raw_data: w.iter().flat_map(|v| v.to_le_bytes()).collect(),
+                    ..Default::default()
+                });
+                folded += 1;
+                continue;
+            }
+        }
+        kept.push(node);
+    }
+    g.node = kept;
+    let used: std::collections::HashSet<&str> = g
+        .node
+        .iter()
+        .flat_map(|n| n.input.iter().map(|s| s.as_str()))
+        .chain(g.output.iter().map(|o| o.name.as_str()))
+        .collect::<std::collections::HashSet<_>>();
+    let used: std::collections::HashSet<String> = used.into_iter().map(String::from).collect();
+    let dropped: std::collections::HashSet<String> = g
+        .initializer
+        .iter()
+        .filter(|t| !used.contains(&t.name))
+        .map(|t| t.name.clone())
+        .collect();
+    g.initializer.retain(|t| !dropped.contains(&t.name));
+    // Exports that list initializers as graph inputs too.
+    g.input.retain(|i| !dropped.contains(&i.name));
+    Ok(folded)
 }

@@ -406,6 +406,35 @@ fn mesh_codec_matches_onnxruntime() {
         .expect("bundled mesh models");
     for name in ["mesh_encoder", "mesh_decoder"] {
         common::fixture_parity(name, 1e-4);
+        // Multiplying the factored kernels out at load changes nothing but speed.
+        let bytes = std::fs::read(common::root().join(format!("models/onnx/{name}.onnx"))).unwrap();
+        let plain = deeprep::runtime::Model::from_onnx_bytes(&bytes).unwrap();
+        let (folded, n) = deeprep::runtime::Model::from_onnx_bytes_folding_factors(&bytes).unwrap();
+        assert_eq!(n, 4, "{name}: one kernel product per vcConv layer");
+        let shape = if name == "mesh_encoder" {
+            vec![2, codec.vertices(), 3]
+        } else {
+            vec![2, 8, 16]
+        };
+        let len: usize = shape.iter().product();
+        let x = deeprep::runtime::TensorF32::new(
+            (0..len)
+                .map(|i| ((i * 37 % 101) as f32 / 101.0) - 0.5)
+                .collect(),
+            shape,
+        )
+        .unwrap();
+        let (a, b) = (
+            plain.run(std::slice::from_ref(&x)).unwrap(),
+            folded.run(&[x]).unwrap(),
+        );
+        let diff = a[0]
+            .data
+            .iter()
+            .zip(&b[0].data)
+            .map(|(p, q)| (p - q).abs())
+            .fold(0.0f32, f32::max);
+        assert!(diff < 1e-4, "{name}: folded kernels differ by {diff}");
     }
     let (l, c) = codec.latent_shape();
     let rest = vec![[0.0f32, 1.0, 0.0]; codec.vertices()];

@@ -62,8 +62,10 @@ impl MeshCodec {
             ));
         }
         Ok(MeshCodec {
-            encoder: Model::from_onnx_bytes(encoder)?,
-            decoder: Model::from_onnx_bytes(decoder)?,
+            // The kernels ship factored (W = A·B) and are multiplied out
+            // here, as the thesis precomputes them at test time.
+            encoder: Model::from_onnx_bytes_folding_factors(encoder)?.0,
+            decoder: Model::from_onnx_bytes_folding_factors(decoder)?.0,
             norm: m.normalization,
             vertices,
             levels: m.levels.len(),
