@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Full benchmarks: in-betweening per stage natively (release) and in headless
-# Chromium (wasm), 512-4096 frames, with the SLERP+LERP baseline beside them.
+# Chromium (wasm), 512-4096 frames, with the SLERP+LERP baseline beside them;
+# then the mesh autoencoder's encode/decode with tract (native, as exported
+# and with its kernels multiplied out at load), onnxruntime, and in Chromium.
 # Prints JSON. Assumes scripts/setup.sh has run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -8,3 +10,6 @@ export PATH="$HOME/.cargo/bin:$PATH"
 cargo bench --bench inbetween
 bash scripts/build-wasm.sh >/dev/null
 node tests/web/bench_page.mjs
+cargo bench --bench mesh
+.venv/bin/python train/bench_mesh_ort.py
+node tests/web/bench_mesh_page.mjs
