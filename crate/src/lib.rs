@@ -9,6 +9,7 @@
 //! - [`rcfk`]: range-constrained forward kinematics (Sec. 5.2.3, Table D.1).
 //! - [`motion`]: keyframe in-betweening (chapter 5).
 //! - [`ik`]: inverse kinematics from joint positions (Sec. 4.4.3).
+//! - [`hair`]: HairNet strands, procedural hair data and reconstruction (ch. 3).
 //! - [`mesh`]: mesh graphs and topology-only graph sampling (ch. 2).
 //! - [`viewer`]: the wgpu renderer (WebGPU, WebGL2, headless natively).
 //! - [`runtime`]: ONNX models run by tract.
@@ -23,6 +24,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod error;
+pub mod hair;
 pub mod ik;
 pub mod mesh;
 pub mod motion;
