@@ -4,7 +4,8 @@
 // The autoencoder runs in a worker (mesh-worker.js); the view is the
 // crate's wgpu renderer (WebGPU, or WebGL2 when WebGPU is missing or its
 // device is lost; `?webgl2` forces WebGL2).
-import init, { Viewer } from './pkg/deeprep.js';
+import init from './pkg/deeprep.js';
+import { latestRunner, openView, wireOrbit, workerClient } from './common.js';
 
 const MODEL_BASE = new URL('../models/onnx', import.meta.url).href;
 const params = new URLSearchParams(location.search);
@@ -22,7 +23,6 @@ const state = {
   latent: 0,
   timings: [],    // [{ encodeMs, decodeMs }] of every encode in this page
   view: null,
-  busy: 0,
 };
 window.deeprepMesh = state; // for tests and the console
 
@@ -33,72 +33,25 @@ function setStatus(text, error = false) {
 }
 
 // ---------------------------------------------------------------- worker
-const worker = new Worker(new URL('./mesh-worker.js', import.meta.url), { type: 'module' });
-const pending = new Map();
-let nextId = 1;
-worker.onmessage = (e) => {
-  const m = e.data;
-  if (m.type === 'progress') { setStatus(`${m.stage}…`); return; }
-  const p = pending.get(m.id);
-  if (!p) return;
-  pending.delete(m.id);
-  if (m.type === 'error') p.reject(new Error(m.message)); else p.resolve(m);
-};
-worker.onerror = (e) => setStatus(`mesh worker failed: ${e.message || e.type}`, true);
-function request(msg, transfer = []) {
-  const id = nextId++;
-  return new Promise((resolve, reject) => {
-    pending.set(id, { resolve, reject });
-    worker.postMessage({ ...msg, id }, transfer);
-  });
-}
-
-// Requests that replace the previous one of the same kind: while one runs,
-// only the newest waiting request is kept (slider drags stay responsive).
-const lanes = new Map();
-function latest(kind, fn) {
-  let lane = lanes.get(kind);
-  if (!lane) { lane = { running: null, next: null }; lanes.set(kind, lane); }
-  lane.next = fn;
-  if (!lane.running) {
-    lane.running = (async () => {
-      while (lane.next) {
-        const f = lane.next;
-        lane.next = null;
-        state.busy++;
-        try { await f(); } catch (e) { setStatus(`error: ${e.message}`, true); console.warn(e); } finally { state.busy--; }
-      }
-      lane.running = null;
-      document.body.dataset.busy = String(state.busy);
-    })();
-  }
-  return lane.running;
-}
+const client = workerClient(new URL('./mesh-worker.js', import.meta.url), {
+  onProgress: (m) => setStatus(`${m.stage}…`),
+  onError: (e) => setStatus(e.message, true),
+});
+const request = (msg) => client.request(msg);
+const latestRaw = latestRunner({
+  onError: (e) => { setStatus(`error: ${e.message}`, true); console.warn(e); },
+  onIdle: () => { document.body.dataset.busy = '0'; },
+});
+const latest = (kind, fn) => latestRaw(kind, fn);
 
 // ---------------------------------------------------------------- view
-async function createView(forceWebgl2) {
-  const canvas = $('view');
-  const viewer = await Viewer.create(canvas, forceWebgl2);
-  return { viewer, canvas, name: viewer.backend };
-}
-
-let replacing = null;
-function replaceLostView() {
-  if (replacing) return replacing;
-  replacing = (async () => {
-    console.warn(`the ${state.view.name} device was lost; switching to WebGL2`);
-    const old = $('view');
-    const fresh = old.cloneNode(true);
-    old.replaceWith(fresh);
-    wireCanvas(fresh);
-    state.view = await createView(true);
-    document.body.dataset.view = state.view.name;
-    $('view-badge').textContent = state.view.name;
-    setupView(true);
-    replacing = null;
-    draw();
-  })();
-  return replacing;
+let attachCanvas = null;
+async function onViewReplaced(view) {
+  attachCanvas(view.canvas());
+  document.body.dataset.view = view.name();
+  $('view-badge').textContent = view.name();
+  setupView(true);
+  draw();
 }
 
 function setupView(frame) {
@@ -128,8 +81,8 @@ function shownPositions() {
 }
 
 function draw() {
-  if (!state.view || replacing) return;
-  if (state.view.viewer.deviceLost) { replaceLostView(); return; }
+  if (!state.view || state.view.replacing) return;
+  if (state.view.viewer.deviceLost) { state.view.ensure(); return; }
   const v = state.view.viewer;
   const shown = shownPositions();
   if (shown) {
@@ -138,21 +91,13 @@ function draw() {
     v.setMarkers(marks.length ? marks : new Float32Array(0), 0.09, marks.length ? state.latent : -1);
     $('legend-max').textContent = shown.values.length ? `${shown.max} units${mode() === 'recon' ? ' of error' : ' moved'} and more` : 'no colors';
   }
-  const c = state.view.canvas;
+  const c = state.view.canvas();
   v.resize(c.width, c.height);
   v.render();
 }
 
 // RGBA pixels of the view, read right after drawing (for tests).
-state.pixels = async () => {
-  draw();
-  const c = state.view.canvas;
-  const o = document.createElement('canvas');
-  o.width = c.width; o.height = c.height;
-  const x = o.getContext('2d');
-  x.drawImage(c, 0, 0);
-  return x.getImageData(0, 0, o.width, o.height).data;
-};
+state.pixels = async () => state.view.pixels(draw);
 
 function latentPoints(p) {
   const out = new Float32Array(state.info.latentVertices.length * 3);
@@ -279,32 +224,17 @@ async function loadDefault() {
 }
 
 // ---------------------------------------------------------------- input
-const toCanvas = (e) => { const c = $('view'); const r = c.getBoundingClientRect(); return [((e.clientX - r.left) * c.width) / r.width, ((e.clientY - r.top) * c.height) / r.height]; };
-let drag = null;
-function wireCanvas(canvas) {
-  canvas.addEventListener('mousedown', (e) => {
-    const [x, y] = toCanvas(e);
-    const hit = state.view ? state.view.viewer.pickJoint(x, y) : -1;
-    if (hit >= 0 && state.info && hit < state.info.latentVertices.length) {
-      state.latent = hit;
-      $('latent').value = String(hit);
-      latest('edit', updateEdit);
-    }
-    drag = { x, y, pan: e.shiftKey };
-  });
-  canvas.addEventListener('wheel', (e) => { e.preventDefault(); state.view?.viewer.zoom(Math.exp(e.deltaY * 0.001)); draw(); }, { passive: false });
+function pickLatent(x, y) {
+  const hit = state.view ? state.view.viewer.pickJoint(x, y) : -1;
+  if (hit >= 0 && state.info && hit < state.info.latentVertices.length) {
+    state.latent = hit;
+    $('latent').value = String(hit);
+    latest('edit', updateEdit);
+  }
 }
 
 function wireInput() {
-  wireCanvas($('view'));
-  window.addEventListener('mouseup', () => { drag = null; });
-  window.addEventListener('mousemove', (e) => {
-    if (!drag || !state.view) return;
-    const [x, y] = toCanvas(e);
-    if (drag.pan) state.view.viewer.pan(x - drag.x, y - drag.y); else state.view.viewer.orbit(x - drag.x, y - drag.y);
-    drag.x = x; drag.y = y;
-    draw();
-  });
+  attachCanvas = wireOrbit(state.view, draw, pickLatent);
   for (const w of ['a', 'b']) {
     const refresh = () => latest(`pose-${w}`, async () => { if (w === 'a') await updatePose('a'); else { await encodePose('b', await poseOf('b')); await updateEdit(); } draw(); });
     $(`clip-${w}`).addEventListener('change', refresh);
@@ -337,21 +267,21 @@ function wireInput() {
 
 async function main() {
   await init();
-  wireInput();
   try {
-    state.view = await createView(params.has('webgl2'));
+    state.view = await openView('view', params.has('webgl2'), onViewReplaced);
   } catch (e) {
     throw new Error(`this page needs WebGPU or WebGL2 (${e.message})`);
   }
-  document.body.dataset.view = state.view.name;
-  $('view-badge').textContent = state.view.name;
+  wireInput();
+  document.body.dataset.view = state.view.name();
+  $('view-badge').textContent = state.view.name();
   await loadDefault();
   // A GPU device lost right after its first frames (headless Chromium's
   // WebGPU cannot present a canvas) is replaced before the page says ready.
   draw();
   await new Promise((r) => setTimeout(r, 200));
   draw();
-  if (replacing) await replacing;
+  if (state.view.replacing) await state.view.replacing;
   if (state.info) document.body.dataset.ready = '1';
 }
 

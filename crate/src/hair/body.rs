@@ -161,3 +161,47 @@ impl Body {
         self.parts.iter().all(|e| e.dist(p) <= 0.0)
     }
 }
+
+impl Ellipsoid {
+    /// A triangle mesh of the ellipsoid (`rings` × `segments` quads), for
+    /// drawing: positions and triangle indices.
+    pub fn mesh(&self, rings: usize, segments: usize) -> (Vec<[f32; 3]>, Vec<u32>) {
+        let (rings, segments) = (rings.max(2), segments.max(3));
+        let mut pos = Vec::with_capacity((rings + 1) * (segments + 1));
+        for r in 0..=rings {
+            let th = std::f32::consts::PI * r as f32 / rings as f32;
+            for s in 0..=segments {
+                let ph = std::f32::consts::TAU * s as f32 / segments as f32;
+                pos.push([
+                    self.center[0] + self.radii[0] * th.sin() * ph.cos(),
+                    self.center[1] + self.radii[1] * th.cos(),
+                    self.center[2] + self.radii[2] * th.sin() * ph.sin(),
+                ]);
+            }
+        }
+        let w = (segments + 1) as u32;
+        let mut idx = Vec::with_capacity(rings * segments * 6);
+        for r in 0..rings as u32 {
+            for s in 0..segments as u32 {
+                let a = r * w + s;
+                let b = a + w;
+                idx.extend_from_slice(&[a, b, a + 1, a + 1, b, b + 1]);
+            }
+        }
+        (pos, idx)
+    }
+}
+
+impl Body {
+    /// All four parts as one triangle mesh.
+    pub fn mesh(&self) -> (Vec<[f32; 3]>, Vec<u32>) {
+        let (mut pos, mut idx) = (Vec::new(), Vec::new());
+        for e in &self.parts {
+            let (p, i) = e.mesh(16, 24);
+            let base = pos.len() as u32;
+            pos.extend(p);
+            idx.extend(i.iter().map(|v| v + base));
+        }
+        (pos, idx)
+    }
+}

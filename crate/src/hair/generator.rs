@@ -218,14 +218,25 @@ impl Hair {
             let comb = match style.parting {
                 Some(pu) => {
                     let side = if u < pu { -1.0 } else { 1.0 };
-                    [side, -0.3, -0.4 * (v - 0.5)]
+                    // sideways from the parting, and back off the forehead
+                    [side, -0.2, -0.3 - 0.6 * (1.0 - v)]
                 }
                 None => [0.3 * (u - 0.5), -0.2, -1.0],
             };
+            // grow along the scalp in the comb direction, lifted off it a
+            // little (more for less combed styles), so the front hair goes
+            // back over the head rather than down the face
+            let cn = comb[0] * normal[0] + comb[1] * normal[1] + comb[2] * normal[2];
+            let tangent = normalize([
+                comb[0] - cn * normal[0],
+                comb[1] - cn * normal[1],
+                comb[2] - cn * normal[2],
+            ]);
+            let lift = 0.1 + 0.3 * (1.0 - style.comb);
             let mut d = normalize([
-                normal[0] + style.comb * comb[0],
-                normal[1] + style.comb * comb[1],
-                normal[2] + style.comb * comb[2],
+                lift * normal[0] + tangent[0],
+                lift * normal[1] + tangent[1],
+                lift * normal[2] + tangent[2],
             ]);
             let step = len / (m - 1) as f32;
             let margin = style.volume;
@@ -235,7 +246,7 @@ impl Hair {
             for k in 1..m {
                 let t = k as f32 / (m - 1) as f32;
                 let g = style.gravity * (t / style.stiffness.max(1e-3)).min(1.0).powi(2);
-                d = normalize(lerp(d, [0.0, -1.0, 0.0], g * 0.25));
+                d = normalize(lerp(d, [0.0, -1.0, 0.0], g * 0.12));
                 let q = body.push_out(
                     [p[0] + d[0] * step, p[1] + d[1] * step, p[2] + d[2] * step],
                     margin,

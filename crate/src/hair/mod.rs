@@ -11,6 +11,7 @@
 //!   (gravity, stiffness, partings, curls, clumps, collisions, blending).
 //! - [`render`]: the 3 × 256 × 256 network input (undirected orientation and
 //!   segmentation) from a view, with per-sample visibility for eq. 3.2.
+//! - [`model`]: the exported network run by tract, and the reconstruction.
 //! - [`upsample`]: bilinear interpolation of strand features on the scalp
 //!   grid to any number of strands (Sec. 3.2.4, Fig. 3.4).
 //!
@@ -19,6 +20,7 @@
 
 pub mod body;
 pub mod generator;
+pub mod model;
 pub mod render;
 pub mod scalp;
 pub mod strand;
@@ -26,6 +28,7 @@ pub mod upsample;
 
 pub use body::{Body, Ellipsoid};
 pub use generator::{Curl, Hair, HairClass, Length, Style};
+pub use model::{blend_features, HairModel, Reconstruct, Strands};
 pub use render::{render, Render, View};
 pub use scalp::Scalp;
 

@@ -82,7 +82,10 @@ pub fn smooth(s: &[P], sigma: f32) -> Vec<P> {
         if k < 0 {
             sub(scale(s[0], 2.0), s[(-k) as usize])
         } else if k >= m {
-            sub(scale(s[(m - 1) as usize], 2.0), s[(2 * (m - 1) - k) as usize])
+            sub(
+                scale(s[(m - 1) as usize], 2.0),
+                s[(2 * (m - 1) - k) as usize],
+            )
         } else {
             s[k as usize]
         }

@@ -139,6 +139,43 @@ struct DrawLists {
     mesh_instances: Vec<(std::ops::Range<u32>, Instance)>,
 }
 
+/// Line-list vertices of the scene's strips (a shade darker towards the tips).
+fn strip_lines(scene: &Scene) -> Vec<LineVertex> {
+    let mut lines = Vec::new();
+    for s in &scene.strips {
+        if s.strip_len < 2 {
+            continue;
+        }
+        for strip in s.points.chunks_exact(s.strip_len) {
+            let n = (strip.len() - 1) as f32;
+            for (k, w) in strip.windows(2).enumerate() {
+                let shade = |t: f32| {
+                    let f = 1.0 - 0.35 * t / n;
+                    [s.color[0] * f, s.color[1] * f, s.color[2] * f, s.color[3]]
+                };
+                lines.push(LineVertex {
+                    pos: w[0],
+                    color: shade(k as f32),
+                });
+                lines.push(LineVertex {
+                    pos: w[1],
+                    color: shade(k as f32 + 1.0),
+                });
+            }
+        }
+    }
+    lines
+}
+
+/// What identifies the strips' content for the cached buffer.
+fn strips_key(scene: &Scene) -> Vec<(u64, usize, usize)> {
+    scene
+        .strips
+        .iter()
+        .map(|s| (s.revision, s.points.len(), s.strip_len))
+        .collect()
+}
+
 fn draw_lists(scene: &Scene) -> DrawLists {
     let mut d = DrawLists::default();
     if let Some(g) = scene.grid {
@@ -202,23 +239,6 @@ fn draw_lists(scene: &Scene) -> DrawLists {
             let c = sk.color;
             d.bones
                 .push(instance(m, [c[0] * 0.85, c[1] * 0.85, c[2] * 0.85, c[3]]));
-        }
-    }
-    for s in &scene.strips {
-        if s.strip_len < 2 {
-            continue;
-        }
-        for strip in s.points.chunks_exact(s.strip_len) {
-            for w in strip.windows(2) {
-                d.lines.push(LineVertex {
-                    pos: w[0],
-                    color: s.color,
-                });
-                d.lines.push(LineVertex {
-                    pos: w[1],
-                    color: s.color,
-                });
-            }
         }
     }
     for m in &scene.meshes {
@@ -306,6 +326,8 @@ pub struct Renderer {
     spheres: DynBuffer,
     bones: DynBuffer,
     lines: DynBuffer,
+    strips: DynBuffer,
+    strips_cached: Option<(Vec<(u64, usize, usize)>, u32)>,
     mesh_vertices: DynBuffer,
     mesh_instances: DynBuffer,
 }
@@ -438,6 +460,8 @@ impl Renderer {
             spheres: DynBuffer::default(),
             bones: DynBuffer::default(),
             lines: DynBuffer::default(),
+            strips: DynBuffer::default(),
+            strips_cached: None,
             mesh_vertices: DynBuffer::default(),
             mesh_instances: DynBuffer::default(),
         }
@@ -499,6 +523,21 @@ impl Renderer {
         let lines = self
             .lines
             .upload(device, queue, bytemuck::cast_slice(&lists.lines), "lines");
+        // Strips (e.g. 30K hair strands) are uploaded only when they change.
+        let key = strips_key(scene);
+        let strip_count = match &self.strips_cached {
+            Some((k, n)) if *k == key => *n,
+            _ => {
+                let v = strip_lines(scene);
+                self.strips
+                    .upload(device, queue, bytemuck::cast_slice(&v), "strips");
+                self.strips_cached = Some((key, v.len() as u32));
+                v.len() as u32
+            }
+        };
+        let strips = (strip_count > 0)
+            .then(|| self.strips.buffer.clone())
+            .flatten();
         let mesh_v = self.mesh_vertices.upload(
             device,
             queue,
@@ -551,6 +590,11 @@ impl Renderer {
                 pass.set_pipeline(&self.line);
                 pass.set_vertex_buffer(0, l.slice(..));
                 pass.draw(0..lists.lines.len() as u32, 0..1);
+            }
+            if let Some(b) = &strips {
+                pass.set_pipeline(&self.line);
+                pass.set_vertex_buffer(0, b.slice(..));
+                pass.draw(0..strip_count, 0..1);
             }
             pass.set_pipeline(&self.lit);
             for (mesh, inst, n) in [

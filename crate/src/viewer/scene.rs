@@ -33,6 +33,8 @@ impl SkeletonPose {
 }
 
 /// Line strips (hair strands: `strip_len` points each), drawn unlit.
+/// The renderer keeps their vertex buffer across frames while `revision`
+/// and the sizes stay the same: bump `revision` when the points change.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LineStrips {
     /// Points, strip after strip.
@@ -41,6 +43,8 @@ pub struct LineStrips {
     pub strip_len: usize,
     /// RGBA, linear.
     pub color: [f32; 4],
+    /// Content revision (see above).
+    pub revision: u64,
 }
 
 /// A triangle mesh, drawn lit with flat normals: in one color, or with a

@@ -1,0 +1,54 @@
+// deeprep hair worker: HairNet and the strand reconstruction off the main thread.
+//   -> {type: 'init', id, modelBase}                          <- {classNames, bodyPositions, bodyTriangles}
+//   -> {type: 'test', id, cls, seed, yaw}                     <- {image, truth}
+//   -> {type: 'features', id, image}                          <- {features, ms}
+//   -> {type: 'strands', id, features, count, smooth, curl}   <- {points, ms, collision}
+//   <- {type: 'error', id, message}
+import init, { HairLab } from './pkg/deeprep.js';
+
+let lab = null;
+const ready = init();
+
+async function fetchBytes(url) {
+  const r = await fetch(url);
+  if (!r.ok) throw new Error(`${url}: HTTP ${r.status}`);
+  return new Uint8Array(await r.arrayBuffer());
+}
+
+async function handle(msg) {
+  await ready;
+  if (msg.type === 'init') {
+    const base = msg.modelBase;
+    const [f, s, m] = await Promise.all([
+      fetchBytes(`${base}/hair_features.onnx`), fetchBytes(`${base}/hair_strands.onnx`),
+      fetch(`${base}/hair_features.manifest.json`).then((r) => { if (!r.ok) throw new Error(`hair manifest: HTTP ${r.status}`); return r.text(); }),
+    ]);
+    lab = new HairLab(f, s, m);
+    return { classNames: HairLab.classNames(), bodyPositions: lab.bodyPositions(), bodyTriangles: lab.bodyTriangles() };
+  }
+  if (!lab) throw new Error('the hair model is not loaded');
+  if (msg.type === 'test') {
+    return { image: lab.testImage(msg.cls, msg.seed >>> 0, msg.yaw), truth: lab.testHair(msg.cls, msg.seed >>> 0) };
+  }
+  if (msg.type === 'features') {
+    const t0 = performance.now();
+    const features = lab.features(new Float32Array(msg.image));
+    return { features, ms: performance.now() - t0 };
+  }
+  if (msg.type === 'strands') {
+    const t0 = performance.now();
+    const points = lab.strands(new Float32Array(msg.features), msg.count, msg.smooth, msg.curl);
+    const ms = performance.now() - t0;
+    return { points, ms, collision: lab.collisionError(points) };
+  }
+  throw new Error(`unknown request '${msg.type}'`);
+}
+
+onmessage = async (e) => {
+  const msg = e.data;
+  try {
+    postMessage({ type: 'result', id: msg.id, ...(await handle(msg)) });
+  } catch (err) {
+    postMessage({ type: 'error', id: msg.id, message: String(err && err.message ? err.message : err) });
+  }
+};
