@@ -53,8 +53,8 @@ fn generated_hair_keeps_its_invariants() {
         assert_eq!(h.strands(), GRID * GRID);
         assert_eq!(h.points.len(), GRID * GRID * POINTS);
         let roots = scalp.grid_roots(GRID);
-        for i in 0..h.strands() {
-            assert_eq!(h.strand(i)[0], roots[i].0, "strand {i} starts at its root");
+        for (i, root) in roots.iter().enumerate() {
+            assert_eq!(h.strand(i)[0], root.0, "strand {i} starts at its root");
         }
         assert!(h.points.iter().all(|p| p.iter().all(|v| v.is_finite())));
         // collision-free targets: every non-root sample outside every ellipsoid

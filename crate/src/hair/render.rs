@@ -111,7 +111,7 @@ pub fn render(
     size: usize,
     rng: &mut Rng,
 ) -> Result<Render> {
-    if size < 8 || points.len() % POINTS != 0 {
+    if size < 8 || !points.len().is_multiple_of(POINTS) {
         return Err(Error::Invalid(format!(
             "hair render: size {size} must be ≥ 8 and points ({}) a multiple of {POINTS}",
             points.len()

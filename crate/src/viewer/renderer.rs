@@ -167,8 +167,11 @@ fn strip_lines(scene: &Scene) -> Vec<LineVertex> {
     lines
 }
 
+/// Revision, point count and strip length of each strip set.
+type StripsKey = Vec<(u64, usize, usize)>;
+
 /// What identifies the strips' content for the cached buffer.
-fn strips_key(scene: &Scene) -> Vec<(u64, usize, usize)> {
+fn strips_key(scene: &Scene) -> StripsKey {
     scene
         .strips
         .iter()
@@ -327,7 +330,7 @@ pub struct Renderer {
     bones: DynBuffer,
     lines: DynBuffer,
     strips: DynBuffer,
-    strips_cached: Option<(Vec<(u64, usize, usize)>, u32)>,
+    strips_cached: Option<(StripsKey, u32)>,
     mesh_vertices: DynBuffer,
     mesh_instances: DynBuffer,
 }
