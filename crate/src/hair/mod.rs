@@ -11,6 +11,7 @@
 //!   (gravity, stiffness, partings, curls, clumps, collisions, blending).
 //! - [`render`]: the 3 × 256 × 256 network input (undirected orientation and
 //!   segmentation) from a view, with per-sample visibility for eq. 3.2.
+//! - [`gpu`]: the strand MLPs as a WGSL compute shader, checked against the CPU.
 //! - [`model`]: the exported network run by tract, and the reconstruction.
 //! - [`upsample`]: bilinear interpolation of strand features on the scalp
 //!   grid to any number of strands (Sec. 3.2.4, Fig. 3.4).
@@ -20,6 +21,7 @@
 
 pub mod body;
 pub mod generator;
+pub mod gpu;
 pub mod model;
 pub mod render;
 pub mod scalp;

@@ -55,10 +55,78 @@ pub struct Strands {
     pub curled: usize,
 }
 
+/// One 1 × 1-conv layer of a strand head: `weight` is out × in, row-major.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Layer {
+    /// Out × in weights.
+    pub weight: Vec<f32>,
+    /// Out biases.
+    pub bias: Vec<f32>,
+}
+
+/// The strand heads' weights (for the GPU decoder): three layers each.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HeadWeights {
+    /// Feature channels.
+    pub channels: usize,
+    /// Position head: C→C (ReLU), C→C (tanh), C→300.
+    pub pos: [Layer; 3],
+    /// Curvature head: C→C (ReLU), C→C (tanh), C→100.
+    pub curv: [Layer; 3],
+}
+
+fn head_weights(onnx: &[u8], c: usize) -> Result<HeadWeights> {
+    use tract_onnx::tract_core::framework::Framework;
+    let mut r = onnx;
+    let proto = tract_onnx::onnx()
+        .proto_model_for_read(&mut r)
+        .map_err(|e| Error::Model(format!("hair strands: {e}")))?;
+    let g = proto
+        .graph
+        .ok_or_else(|| Error::Model("hair strands: no graph".into()))?;
+    let get = |name: &str, len: usize| -> Result<Vec<f32>> {
+        let t = g
+            .initializer
+            .iter()
+            .find(|t| t.name == name)
+            .ok_or_else(|| Error::Model(format!("hair strands: no initializer '{name}'")))?;
+        let v: Vec<f32> = if !t.raw_data.is_empty() {
+            t.raw_data
+                .chunks_exact(4)
+                .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                .collect()
+        } else {
+            t.float_data.clone()
+        };
+        if v.len() != len {
+            return Err(Error::Model(format!(
+                "hair strands: '{name}' has {} values, expected {len}",
+                v.len()
+            )));
+        }
+        Ok(v)
+    };
+    let head = |h: &str, out: usize| -> Result<[Layer; 3]> {
+        let layer = |k: usize, o: usize| -> Result<Layer> {
+            Ok(Layer {
+                weight: get(&format!("heads.{h}.{k}.weight"), o * c)?,
+                bias: get(&format!("heads.{h}.{k}.bias"), o)?,
+            })
+        };
+        Ok([layer(0, c)?, layer(2, c)?, layer(4, out)?])
+    };
+    Ok(HeadWeights {
+        channels: c,
+        pos: head("pos", 3 * POINTS)?,
+        curv: head("curv", POINTS)?,
+    })
+}
+
 /// The two exported graphs.
 pub struct HairModel {
     features: Model,
     heads: Model,
+    weights: HeadWeights,
     channels: usize,
     pos_scale: f32,
     curv_scale: f32,
@@ -79,6 +147,7 @@ impl HairModel {
         Ok(HairModel {
             features: Model::from_onnx_bytes(features)?,
             heads: Model::from_onnx_bytes(strands)?,
+            weights: head_weights(strands, m.decoding.feature_channels)?,
             channels: m.decoding.feature_channels,
             pos_scale: m.decoding.pos_scale,
             curv_scale: m.decoding.curv_scale,
@@ -104,6 +173,94 @@ impl HairModel {
     /// Feature channels per strand.
     pub fn channels(&self) -> usize {
         self.channels
+    }
+
+    /// The strand heads' weights (for [`super::gpu::GpuStrandDecoder`]).
+    pub fn head_weights(&self) -> &HeadWeights {
+        &self.weights
+    }
+
+    /// Converts raw head outputs laid out strand after strand (positions
+    /// k × 300 with point j axis a at 3j + a, curvatures k × 100, network
+    /// units; what the GPU decoder returns) into root-relative points and
+    /// curvatures, as [`HairModel::decode`] returns them.
+    pub fn outputs_to_strands(
+        &self,
+        pos: &[f32],
+        curv: &[f32],
+        k: usize,
+    ) -> Result<(Vec<[f32; 3]>, Vec<f32>)> {
+        if pos.len() != k * 3 * POINTS || curv.len() != k * POINTS {
+            return Err(Error::Shape {
+                what: "strand outputs".into(),
+                expected: format!("{k} × 300 and {k} × 100"),
+                found: format!("{} and {}", pos.len(), curv.len()),
+            });
+        }
+        let points = pos
+            .chunks_exact(3)
+            .map(|p| {
+                [
+                    p[0] * self.pos_scale,
+                    p[1] * self.pos_scale,
+                    p[2] * self.pos_scale,
+                ]
+            })
+            .collect();
+        let curvature = curv
+            .iter()
+            .map(|c| (c * self.curv_scale).max(0.0))
+            .collect();
+        Ok((points, curvature))
+    }
+
+    /// Scalp coordinates for `count` strands: the grid's own cells for
+    /// 1024, else an even `dense_uv` spread.
+    pub fn strand_uv(count: usize) -> Vec<(f32, f32)> {
+        if count == GRID * GRID {
+            (0..GRID * GRID)
+                .map(|i| Scalp::cell_uv(i % GRID, i / GRID, GRID))
+                .collect()
+        } else {
+            upsample::dense_uv(count)
+        }
+    }
+
+    /// Places decoded root-relative strands at their roots, smooths them and
+    /// restores curls (Sec. 3.2.4).
+    pub fn finish(
+        &self,
+        uv: Vec<(f32, f32)>,
+        local: &[[f32; 3]],
+        curvature: Vec<f32>,
+        opts: &Reconstruct,
+    ) -> Result<Strands> {
+        if local.len() != uv.len() * POINTS || curvature.len() != local.len() {
+            return Err(Error::Invalid("hair: strand count mismatch".into()));
+        }
+        let mut points = Vec::with_capacity(local.len());
+        let mut curled = 0;
+        for (i, &(u, v)) in uv.iter().enumerate() {
+            let (root, _) = self.scalp.root(u, v);
+            let s: Vec<[f32; 3]> = local[i * POINTS..(i + 1) * POINTS]
+                .iter()
+                .map(|p| [p[0] + root[0], p[1] + root[1], p[2] + root[2]])
+                .collect();
+            let (s, c) = strand::restore(
+                &s,
+                &curvature[i * POINTS..(i + 1) * POINTS],
+                opts.smooth_sigma,
+                opts.curl_threshold,
+            );
+            curled += c as usize;
+            points.extend(s);
+        }
+        Ok(Strands {
+            uv,
+            points,
+            curvature,
+            curled,
+        })
     }
 
     /// The scalp the strands grow from.
@@ -179,38 +336,10 @@ impl HairModel {
                 opts.strands
             )));
         }
-        let uv = if opts.strands == GRID * GRID {
-            (0..GRID * GRID)
-                .map(|i| Scalp::cell_uv(i % GRID, i / GRID, GRID))
-                .collect()
-        } else {
-            upsample::dense_uv(opts.strands)
-        };
+        let uv = Self::strand_uv(opts.strands);
         let feats = upsample::upsample(features, self.channels, GRID, &uv)?;
         let (local, curvature) = self.decode(&feats, uv.len())?;
-        let mut points = Vec::with_capacity(local.len());
-        let mut curled = 0;
-        for (i, &(u, v)) in uv.iter().enumerate() {
-            let (root, _) = self.scalp.root(u, v);
-            let s: Vec<[f32; 3]> = local[i * POINTS..(i + 1) * POINTS]
-                .iter()
-                .map(|p| [p[0] + root[0], p[1] + root[1], p[2] + root[2]])
-                .collect();
-            let (s, c) = strand::restore(
-                &s,
-                &curvature[i * POINTS..(i + 1) * POINTS],
-                opts.smooth_sigma,
-                opts.curl_threshold,
-            );
-            curled += c as usize;
-            points.extend(s);
-        }
-        Ok(Strands {
-            uv,
-            points,
-            curvature,
-            curled,
-        })
+        self.finish(uv, &local, curvature, opts)
     }
 
     /// The whole reconstruction from an image.

@@ -19,8 +19,19 @@ pub struct Headless {
 }
 
 impl Headless {
-    /// Opens the first adapter that Vulkan or GL offers.
+    /// Opens the first adapter that Vulkan or GL offers, limited to what
+    /// WebGL2 allows (so tests catch what the browser fallback cannot do).
     pub fn new() -> Result<Self> {
+        Self::with_limits(wgpu::Limits::downlevel_webgl2_defaults())
+    }
+
+    /// Like [`Headless::new`] with WebGPU's downlevel limits: compute
+    /// shaders and storage buffers, for GPU compute next to rendering.
+    pub fn new_compute() -> Result<Self> {
+        Self::with_limits(wgpu::Limits::downlevel_defaults())
+    }
+
+    fn with_limits(limits: wgpu::Limits) -> Result<Self> {
         pollster::block_on(async {
             let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
             desc.backends = wgpu::Backends::VULKAN | wgpu::Backends::GL;
@@ -37,8 +48,7 @@ impl Headless {
             let (device, queue) = adapter
                 .request_device(&wgpu::DeviceDescriptor {
                     label: Some("deeprep headless"),
-                    required_limits: wgpu::Limits::downlevel_webgl2_defaults()
-                        .using_resolution(adapter.limits()),
+                    required_limits: limits.using_resolution(adapter.limits()),
                     ..Default::default()
                 })
                 .await
@@ -51,6 +61,16 @@ impl Headless {
                 adapter: format!("{} ({:?})", info.name, info.backend),
             })
         })
+    }
+
+    /// The device, for other GPU work on the same adapter (e.g. compute).
+    pub fn device(&self) -> &wgpu::Device {
+        &self.device
+    }
+
+    /// The queue of [`Headless::device`].
+    pub fn queue(&self) -> &wgpu::Queue {
+        &self.queue
     }
 
     /// Renders `scene` at `width` × `height` and returns RGBA8 rows, top first.
