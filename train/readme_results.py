@@ -10,6 +10,15 @@ import re
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 M = lambda n: json.load(open(os.path.join(ROOT, "models", "onnx", f"{n}.manifest.json")))
 rot, gen, path, ik = M("rot6d_autoencoder"), M("tween_generator"), M("tween_path"), M("ik")
+mesh = M("mesh_autoencoder")["training"]
+try:
+    hair = M("hair_features")["training"]
+    hair_row = (f"| `hair_features.onnx`, `hair_strands.onnx` | the project's procedural hair ({hair['hairs']:,} hairs in 18 length × curl classes, "
+                f"{hair['train_renders']:,} training renders; `deeprep hair dataset`, `train/train_hair.py`), {hair['steps']:,} steps × {hair['batch']}, "
+                f"Table B.1 widths / {hair['div']} | on {hair['test_renders']} test renders of held-out styles: mean distance {hair['visible_mean_distance_cm']:.1f} cm (visible samples), "
+                f"{hair['invisible_mean_distance_cm']:.1f} cm (hidden); Table 3.2's columns and ablations in [docs/hair.md](docs/hair.md). Procedural data, not USC-HairSalon |\n")
+except FileNotFoundError:
+    hair_row = ""
 ev = json.load(open(os.path.join(ROOT, "docs", "inbetween_eval.json")))
 t52 = path["training"]["table_5_2_validation"]
 gaps = [30, 60, 120, 300]
@@ -25,7 +34,8 @@ models = f"""<!-- models -->
 | `tween_generator.onnx` | CMU train takes at 60 fps (59,290 frames; `train/data_pipeline.py`), {gen['training']['steps']:,} steps × {gen['training']['batch']} windows of {gen['training']['frames']} frames on the 2-core CPU (`train/train_tween.py`; the runs are listed in train/README.md) | {verdict} |
 | `tween_path.onnx` | the same frames, {path['training']['steps']:,} steps | Table 5.2's columns on validation windows: V1 {t52['V1']:.2f}, V8 {t52['V8']:.2f}, V32 {t52['V32']:.2f}, V128 {t52['V128']:.1f}, Y {t52['Y']:.2f} units (thesis: 0.7, 1.5, 2.8, 5.5, 1.8 cm) |
 | `ik.onnx` | the same frames, {ik['training']['steps']:,} steps × {ik['training']['batch']} poses, random rotations about y (`train/ik_test.py`, representation `{ik['representation']}`) | IK on every validation pose × 3 rotations: joint error mean {ik['training']['validation']['mean']:.2f}, max {ik['training']['validation']['max']:.1f}, std {ik['training']['validation']['std']:.2f} units (thesis Table 5.1, RC-FK: 2.3, 34.9, 1.5 cm); all four representations in [docs/ik.md](docs/ik.md) |
-<!-- /models -->"""
+| `mesh_encoder.onnx`, `mesh_decoder.onnx` | RobotExpressive.glb (CC0) posed by `deeprep mesh poses`: {mesh['train_poses']:,} meshes (12 clips + random poses), {mesh['steps']:,} steps × 16 (`train/train_mesh.py`) | on {mesh['test_poses']} held-out meshes (clips Wave, Punch and other random poses): mean error {mesh['mean_error']:.3f} units, {mesh['mean_error_pct_bbox']:.2f}% of the bounding-box diagonal; ablations in [docs/mesh.md](docs/mesh.md) |
+{hair_row}<!-- /models -->"""
 rows = []
 for metric, label in [("L2P", "L2P"), ("L2Q", "L2Q"), ("NPSS", "NPSS"), ("foot_skate", "foot skating (units/frame)")]:
     for m, name in [("zerovel", "zero-velocity"), ("slerp", "SLERP+LERP"), ("model", "model")]:
