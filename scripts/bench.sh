@@ -2,7 +2,8 @@
 # Full benchmarks: in-betweening per stage natively (release) and in headless
 # Chromium (wasm), 512-4096 frames, with the SLERP+LERP baseline beside them;
 # then the mesh autoencoder's encode/decode with tract (native, as exported
-# and with its kernels multiplied out at load), onnxruntime, and in Chromium.
+# and with its kernels multiplied out at load), onnxruntime, and in Chromium;
+# then HairNet's Table 3.3 columns natively and in Chromium.
 # Prints JSON. Assumes scripts/setup.sh has run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -13,3 +14,5 @@ node tests/web/bench_page.mjs
 cargo bench --bench mesh
 .venv/bin/python train/bench_mesh_ort.py
 node tests/web/bench_mesh_page.mjs
+cargo bench --bench hair
+node tests/web/bench_hair_page.mjs

@@ -26,11 +26,13 @@ section "wasm: wasm-bindgen-test in headless Chromium"
   cargo test -p deeprep --release "${WASM_CARGO_FLAGS[@]}" --test wasm_browser
 )
 
-section "bench: smoke runs (one 512-frame in-betweening, one mesh encode/decode; full run: bash scripts/bench.sh)"
+section "bench: smoke runs (one 512-frame in-betweening, one mesh encode/decode, one hair reconstruction; full run: bash scripts/bench.sh)"
 DEEPREP_BENCH_SMOKE=1 cargo test --bench inbetween
 node tests/web/bench_page.mjs --smoke
 DEEPREP_BENCH_SMOKE=1 cargo test --bench mesh
 node tests/web/bench_mesh_page.mjs --smoke
+DEEPREP_BENCH_SMOKE=1 cargo test --bench hair
+node tests/web/bench_hair_page.mjs --smoke
 
 section "npm package: wasm-pack, npm pack, install into a fresh Vite project, build"
 bash scripts/build-npm.sh
