@@ -1,6 +1,7 @@
 // deeprep hair worker: HairNet and the strand reconstruction off the main thread.
 //   -> {type: 'init', id, modelBase}                          <- {classNames, bodyPositions, bodyTriangles}
 //   -> {type: 'test', id, cls, seed, yaw}                     <- {image, truth}
+//   -> {type: 'photo', id, grey, hair, w, h}                   <- {image, ms}   (Gabor orientation input)
 //   -> {type: 'features', id, image}                          <- {features, ms}
 //   -> {type: 'strands', id, features, count, smooth, curl}   <- {points, ms, collision}
 //   <- {type: 'error', id, message}
@@ -29,6 +30,11 @@ async function handle(msg) {
   if (!lab) throw new Error('the hair model is not loaded');
   if (msg.type === 'test') {
     return { image: lab.testImage(msg.cls, msg.seed >>> 0, msg.yaw), truth: lab.testHair(msg.cls, msg.seed >>> 0) };
+  }
+  if (msg.type === 'photo') {
+    const t0 = performance.now();
+    const image = lab.photoInput(new Float32Array(msg.grey), new Float32Array(msg.hair), new Float32Array(0), msg.w, msg.h);
+    return { image, ms: performance.now() - t0 };
   }
   if (msg.type === 'features') {
     const t0 = performance.now();

@@ -122,6 +122,39 @@ async function reconstruct() {
   document.body.dataset.input = `${cls}:${seed}:${yaw}`;
 }
 
+// Grey values and a mask from image files, at most 512 px on a side.
+async function pixelsOf(file) {
+  const bmp = await createImageBitmap(file);
+  const k = Math.min(1, 512 / Math.max(bmp.width, bmp.height));
+  const [w, h] = [Math.max(1, Math.round(bmp.width * k)), Math.max(1, Math.round(bmp.height * k))];
+  const c = new OffscreenCanvas(w, h);
+  const ctx = c.getContext('2d');
+  ctx.drawImage(bmp, 0, 0, w, h);
+  const d = ctx.getImageData(0, 0, w, h).data;
+  const grey = new Float32Array(w * h);
+  for (let i = 0; i < w * h; i++) grey[i] = (0.299 * d[4 * i] + 0.587 * d[4 * i + 1] + 0.114 * d[4 * i + 2]) / 255;
+  return { grey, w, h };
+}
+
+async function fromPhoto() {
+  const [photo, mask] = [$('photo').files[0], $('mask').files[0]];
+  if (!photo || !mask) throw new Error('choose a photo and its hair mask');
+  setStatus('orientation filter…');
+  const [p, m] = await Promise.all([pixelsOf(photo), pixelsOf(mask)]);
+  if (p.w !== m.w || p.h !== m.h) throw new Error(`the mask (${m.w}×${m.h}) must have the photo's size (${p.w}×${p.h})`);
+  const r = await client.request({ type: 'photo', grey: p.grey, hair: m.grey, w: p.w, h: p.h });
+  state.image = r.image;
+  state.truth = null;
+  showInput(r.image);
+  setStatus('HairNet…');
+  const f = await client.request({ type: 'features', image: r.image });
+  state.features = f.features;
+  state.featuresMs = f.ms;
+  await decode(f.features);
+  setStatus(`ready (orientation filter ${r.ms.toFixed(0)} ms)`);
+  document.body.dataset.input = `photo:${photo.name}`;
+}
+
 async function blend() {
   if (!state.a || !state.b) return;
   const t = Number($('blend').value);
@@ -160,6 +193,10 @@ function wireInput() {
   $('keep-a').addEventListener('click', () => keep('a'));
   $('keep-b').addEventListener('click', () => keep('b'));
   $('blend').addEventListener('input', () => latest('decode', blend));
+  const photoReady = () => { $('from-photo').disabled = !($('photo').files[0] && $('mask').files[0]); };
+  $('photo').addEventListener('change', photoReady);
+  $('mask').addEventListener('change', photoReady);
+  $('from-photo').addEventListener('click', () => latest('recon', fromPhoto));
 }
 
 async function main() {

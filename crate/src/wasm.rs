@@ -719,9 +719,8 @@ impl HairLab {
             .collect()
     }
 
-    /// A procedural hair of class `class` (seeded), rendered from `yawDeg`:
-    /// returns the 3 × 256 × 256 image followed by nothing else; use
-    /// `testHair` for its strands.
+    /// A procedural hair of class `class` (seeded) rendered from `yawDeg`
+    /// as the network's 3 × 256 × 256 input; `testHair` gives its strands.
     #[wasm_bindgen(js_name = testImage)]
     pub fn test_image(&self, class: &str, seed: u32, yaw_deg: f32) -> Result<Vec<f32>, JsError> {
         let h = self.test_hair_inner(class, seed)?;
@@ -754,6 +753,31 @@ impl HairLab {
             &self.body,
             crate::hair::GRID,
             &mut rng,
+        )
+        .map_err(js_err)
+    }
+
+    /// The network input (3 × 256 × 256) from a photo (Sec. 3.2.1): `grey`
+    /// values and a `hair` mask (and optionally a `body` mask; empty for
+    /// none), each `width` × `height`, mask values above 0.5 set. A Gabor
+    /// filter bank finds the strand orientation at each hair pixel.
+    #[wasm_bindgen(js_name = photoInput)]
+    pub fn photo_input(
+        &self,
+        grey: &[f32],
+        hair: &[f32],
+        body: &[f32],
+        width: usize,
+        height: usize,
+    ) -> Result<Vec<f32>, JsError> {
+        let body = (!body.is_empty()).then_some(body);
+        crate::hair::orientation::network_input(
+            grey,
+            hair,
+            body,
+            width,
+            height,
+            &crate::hair::orientation::Gabor::default(),
         )
         .map_err(js_err)
     }

@@ -463,3 +463,79 @@ mod model {
             .is_err());
     }
 }
+
+/// The photo path's filter bank recovers known orientations: straight
+/// stripes at several angles, and the tangents of concentric rings.
+#[test]
+fn the_gabor_bank_recovers_synthetic_orientations() {
+    use deeprep::hair::orientation::{network_input, Gabor};
+    let bank = Gabor::default();
+    let (w, h) = (64usize, 64usize);
+    let ang = |a: f32, b: f32| {
+        let d = (a - b).rem_euclid(std::f32::consts::PI);
+        d.min(std::f32::consts::PI - d)
+    };
+    for deg in [0.0f32, 20.0, 45.0, 90.0, 133.0, 170.0] {
+        let t = deg.to_radians();
+        // bright lines along direction t (y down): intensity varies across them
+        let img: Vec<f32> = (0..w * h)
+            .map(|i| {
+                let (x, y) = ((i % w) as f32, (i / w) as f32);
+                let across = -x * t.sin() + y * t.cos();
+                0.5 + 0.5 * (std::f32::consts::TAU * across / 4.0).cos()
+            })
+            .collect();
+        let mask = vec![true; w * h];
+        let (theta, _) = bank.orientations(&img, &mask, w, h).unwrap();
+        let inner: Vec<f32> = (0..w * h)
+            .filter(|i| (8..56).contains(&(i % w)) && (8..56).contains(&(i / w)))
+            .map(|i| ang(theta[i], t))
+            .collect();
+        let mean = inner.iter().sum::<f32>() / inner.len() as f32;
+        assert!(
+            mean.to_degrees() < 3.0,
+            "stripes at {deg}°: mean error {:.1}°",
+            mean.to_degrees()
+        );
+    }
+    // rings around the centre: strands run tangentially
+    let (w, h) = (96usize, 96usize);
+    let img: Vec<f32> = (0..w * h)
+        .map(|i| {
+            let (x, y) = ((i % w) as f32 - 48.0, (i / w) as f32 - 48.0);
+            0.5 + 0.5 * (std::f32::consts::TAU * (x * x + y * y).sqrt() / 4.0).cos()
+        })
+        .collect();
+    let mask: Vec<bool> = (0..w * h)
+        .map(|i| {
+            let (x, y) = ((i % w) as f32 - 48.0, (i / w) as f32 - 48.0);
+            (x * x + y * y).sqrt() > 14.0 && (x * x + y * y).sqrt() < 40.0
+        })
+        .collect();
+    let (theta, _) = bank.orientations(&img, &mask, w, h).unwrap();
+    let mut errs = Vec::new();
+    for i in 0..w * h {
+        if mask[i] {
+            let (x, y) = ((i % w) as f32 - 48.0, (i / w) as f32 - 48.0);
+            let tangent = y.atan2(x) + std::f32::consts::FRAC_PI_2;
+            errs.push(ang(theta[i], tangent).to_degrees());
+        }
+    }
+    errs.sort_by(f32::total_cmp);
+    let median = errs[errs.len() / 2];
+    let mean = errs.iter().sum::<f32>() / errs.len() as f32;
+    eprintln!("rings: median orientation error {median:.1}°, mean {mean:.1}°");
+    assert!(median < 5.0 && mean < 10.0);
+    // the network input: orientation channels on hair pixels, segmentation
+    let hair: Vec<f32> = mask.iter().map(|&m| m as u8 as f32).collect();
+    let body: Vec<f32> = (0..w * h).map(|i| ((i / w) > 80) as u8 as f32).collect();
+    let x = network_input(&img, &hair, Some(&body), w, h, &bank).unwrap();
+    assert_eq!(x.len(), 3 * 256 * 256);
+    let plane = 256 * 256;
+    assert!(x[2 * plane..].iter().any(|&v| v == 1.0) && x[2 * plane..].iter().any(|&v| v == 0.5));
+    assert!(network_input(&img, &vec![0.0; w * h], None, w, h, &bank).is_err());
+    assert!(network_input(&img[1..], &hair, None, w, h, &bank).is_err());
+    let mut nan = img.clone();
+    nan[5] = f32::NAN;
+    assert!(bank.orientations(&nan, &mask, w, h).is_err());
+}

@@ -9,6 +9,8 @@
 //!   restoration (Sec. 3.2.4).
 //! - [`generator`]: procedural hairstyles across Table 3.1's classes
 //!   (gravity, stiffness, partings, curls, clumps, collisions, blending).
+//! - [`orientation`]: the photo path: a Gabor filter bank turns an image
+//!   and a hair mask into the network's orientation input.
 //! - [`render`]: the 3 × 256 × 256 network input (undirected orientation and
 //!   segmentation) from a view, with per-sample visibility for eq. 3.2.
 //! - [`gpu`]: the strand MLPs as a WGSL compute shader, checked against the CPU.
@@ -23,6 +25,7 @@ pub mod body;
 pub mod generator;
 pub mod gpu;
 pub mod model;
+pub mod orientation;
 pub mod render;
 pub mod scalp;
 pub mod strand;
