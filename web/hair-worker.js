@@ -3,11 +3,13 @@
 //   -> {type: 'test', id, cls, seed, yaw}                     <- {image, truth}
 //   -> {type: 'photo', id, grey, hair, w, h}                   <- {image, ms}   (Gabor orientation input)
 //   -> {type: 'features', id, image}                          <- {features, ms}
-//   -> {type: 'strands', id, features, count, smooth, curl}   <- {points, ms, collision}
+//   -> {type: 'strands', id, features, count, smooth, curl, gpu}   <- {points, ms, collision, device}
+//      gpu: decode on WebGPU compute (opened on first use); rejects where WebGPU is missing
 //   <- {type: 'error', id, message}
 import init, { HairLab } from './pkg/deeprep.js';
 
 let lab = null;
+let gpu = null;
 const ready = init();
 
 async function fetchBytes(url) {
@@ -42,10 +44,12 @@ async function handle(msg) {
     return { features, ms: performance.now() - t0 };
   }
   if (msg.type === 'strands') {
+    const feats = new Float32Array(msg.features);
+    if (msg.gpu && !gpu) gpu = await lab.openGpu();
     const t0 = performance.now();
-    const points = lab.strands(new Float32Array(msg.features), msg.count, msg.smooth, msg.curl);
+    const points = msg.gpu ? await gpu.strands(feats, msg.count, msg.smooth, msg.curl) : lab.strands(feats, msg.count, msg.smooth, msg.curl);
     const ms = performance.now() - t0;
-    return { points, ms, collision: lab.collisionError(points) };
+    return { points, ms, collision: lab.collisionError(points), device: msg.gpu ? 'webgpu' : 'cpu' };
   }
   throw new Error(`unknown request '${msg.type}'`);
 }

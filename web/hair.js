@@ -89,8 +89,17 @@ function options() {
 
 async function decode(features) {
   const o = options();
-  const r = await client.request({ type: 'strands', features, count: o.count, smooth: o.smooth, curl: o.curl });
-  state.strands = { points: r.points, count: o.count, ms: r.ms, collision: r.collision };
+  let r;
+  try {
+    r = await client.request({ type: 'strands', features, count: o.count, smooth: o.smooth, curl: o.curl, gpu: $('device').value === 'gpu' });
+  } catch (e) {
+    if ($('device').value !== 'gpu') throw e;
+    // no WebGPU compute here: back to the CPU path, and say so
+    $('device').value = 'cpu';
+    setStatus(`WebGPU decoding unavailable (${e.message}); using the CPU`, true);
+    r = await client.request({ type: 'strands', features, count: o.count, smooth: o.smooth, curl: o.curl, gpu: false });
+  }
+  state.strands = { points: r.points, count: o.count, ms: r.ms, collision: r.collision, device: r.device };
   // at 1,024 strands, strand i grows from the truth's root i: compare them
   state.error = null;
   if (o.count === 1024 && state.truth && features === state.features) {
@@ -102,7 +111,8 @@ async function decode(features) {
   }
   showNumbers();
   upload();
-  document.body.dataset.strands = String(o.count);
+  document.body.dataset.strands = `${o.count}`;
+  document.body.dataset.decoded = `${r.device}:${o.count}:${o.curl}`;
 }
 
 async function reconstruct() {
@@ -168,7 +178,7 @@ function showNumbers() {
   const fmt = (x, d = 1) => (x == null || !Number.isFinite(x) ? '–' : x.toFixed(d));
   const rows = [
     ['HairNet: image → features (ms)', fmt(state.featuresMs)],
-    [`strands: upsample + MLPs + smoothing/curls (ms, ${state.strands ? state.strands.count : '–'})`, fmt(state.strands?.ms)],
+    [`strands: upsample + MLPs + smoothing/curls (ms, ${state.strands ? `${state.strands.count}, ${state.strands.device}` : '–'})`, fmt(state.strands?.ms)],
     ['collision error (eq. 3.3)', state.strands ? state.strands.collision.toExponential(2) : '–'],
     ['mean distance to the truth (cm, 1,024 strands)', state.error == null ? 'pick 1,024' : fmt(100 * state.error, 2)],
   ];
@@ -182,7 +192,7 @@ function showNumbers() {
 function wireInput() {
   attachCanvas = wireOrbit(state.view, draw);
   for (const id of ['cls', 'seed', 'yaw']) $(id).addEventListener('change', () => latest('recon', reconstruct));
-  for (const id of ['count', 'smooth', 'curls']) $(id).addEventListener('change', () => latest('decode', () => decode(state.features)));
+  for (const id of ['count', 'smooth', 'curls', 'device']) $(id).addEventListener('change', () => latest('decode', () => decode(state.features)));
   $('show').addEventListener('change', () => upload());
   const keep = (k) => {
     if (!state.features) return;

@@ -33,7 +33,7 @@ pub mod upsample;
 
 pub use body::{Body, Ellipsoid};
 pub use generator::{Curl, Hair, HairClass, Length, Style};
-pub use model::{blend_features, HairModel, Reconstruct, Strands};
+pub use model::{blend_features, HairModel, Reconstruct, StrandDecoding, Strands};
 pub use render::{render, Render, View};
 pub use scalp::Scalp;
 

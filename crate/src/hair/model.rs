@@ -122,6 +122,91 @@ fn head_weights(onnx: &[u8], c: usize) -> Result<HeadWeights> {
     })
 }
 
+/// What turns raw head outputs into strands: the output scales and the
+/// scalp. Copyable, so GPU decodes can finish without the model.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StrandDecoding {
+    /// Metres per network position unit.
+    pub pos_scale: f32,
+    /// 1/m per network curvature unit.
+    pub curv_scale: f32,
+    /// The scalp the strands grow from.
+    pub scalp: Scalp,
+}
+
+impl StrandDecoding {
+    /// Converts raw head outputs laid out strand after strand (positions
+    /// k × 300 with point j axis a at 3j + a, curvatures k × 100, network
+    /// units; what the GPU decoder returns) into root-relative points and
+    /// curvatures, as [`HairModel::decode`] returns them.
+    pub fn outputs_to_strands(
+        &self,
+        pos: &[f32],
+        curv: &[f32],
+        k: usize,
+    ) -> Result<(Vec<[f32; 3]>, Vec<f32>)> {
+        if pos.len() != k * 3 * POINTS || curv.len() != k * POINTS {
+            return Err(Error::Shape {
+                what: "strand outputs".into(),
+                expected: format!("{k} × 300 and {k} × 100"),
+                found: format!("{} and {}", pos.len(), curv.len()),
+            });
+        }
+        let points = pos
+            .chunks_exact(3)
+            .map(|p| {
+                [
+                    p[0] * self.pos_scale,
+                    p[1] * self.pos_scale,
+                    p[2] * self.pos_scale,
+                ]
+            })
+            .collect();
+        let curvature = curv
+            .iter()
+            .map(|c| (c * self.curv_scale).max(0.0))
+            .collect();
+        Ok((points, curvature))
+    }
+
+    /// Places decoded root-relative strands at their roots, smooths them and
+    /// restores curls (Sec. 3.2.4).
+    pub fn finish(
+        &self,
+        uv: Vec<(f32, f32)>,
+        local: &[[f32; 3]],
+        curvature: Vec<f32>,
+        opts: &Reconstruct,
+    ) -> Result<Strands> {
+        if local.len() != uv.len() * POINTS || curvature.len() != local.len() {
+            return Err(Error::Invalid("hair: strand count mismatch".into()));
+        }
+        let mut points = Vec::with_capacity(local.len());
+        let mut curled = 0;
+        for (i, &(u, v)) in uv.iter().enumerate() {
+            let (root, _) = self.scalp.root(u, v);
+            let s: Vec<[f32; 3]> = local[i * POINTS..(i + 1) * POINTS]
+                .iter()
+                .map(|p| [p[0] + root[0], p[1] + root[1], p[2] + root[2]])
+                .collect();
+            let (s, c) = strand::restore(
+                &s,
+                &curvature[i * POINTS..(i + 1) * POINTS],
+                opts.smooth_sigma,
+                opts.curl_threshold,
+            );
+            curled += c as usize;
+            points.extend(s);
+        }
+        Ok(Strands {
+            uv,
+            points,
+            curvature,
+            curled,
+        })
+    }
+}
+
 /// The two exported graphs.
 pub struct HairModel {
     features: Model,
@@ -180,38 +265,23 @@ impl HairModel {
         &self.weights
     }
 
-    /// Converts raw head outputs laid out strand after strand (positions
-    /// k × 300 with point j axis a at 3j + a, curvatures k × 100, network
-    /// units; what the GPU decoder returns) into root-relative points and
-    /// curvatures, as [`HairModel::decode`] returns them.
+    /// The scales and scalp that finish a decode.
+    pub fn decoding(&self) -> StrandDecoding {
+        StrandDecoding {
+            pos_scale: self.pos_scale,
+            curv_scale: self.curv_scale,
+            scalp: self.scalp,
+        }
+    }
+
+    /// See [`StrandDecoding::outputs_to_strands`].
     pub fn outputs_to_strands(
         &self,
         pos: &[f32],
         curv: &[f32],
         k: usize,
     ) -> Result<(Vec<[f32; 3]>, Vec<f32>)> {
-        if pos.len() != k * 3 * POINTS || curv.len() != k * POINTS {
-            return Err(Error::Shape {
-                what: "strand outputs".into(),
-                expected: format!("{k} × 300 and {k} × 100"),
-                found: format!("{} and {}", pos.len(), curv.len()),
-            });
-        }
-        let points = pos
-            .chunks_exact(3)
-            .map(|p| {
-                [
-                    p[0] * self.pos_scale,
-                    p[1] * self.pos_scale,
-                    p[2] * self.pos_scale,
-                ]
-            })
-            .collect();
-        let curvature = curv
-            .iter()
-            .map(|c| (c * self.curv_scale).max(0.0))
-            .collect();
-        Ok((points, curvature))
+        self.decoding().outputs_to_strands(pos, curv, k)
     }
 
     /// Scalp coordinates for `count` strands: the grid's own cells for
@@ -226,8 +296,7 @@ impl HairModel {
         }
     }
 
-    /// Places decoded root-relative strands at their roots, smooths them and
-    /// restores curls (Sec. 3.2.4).
+    /// See [`StrandDecoding::finish`].
     pub fn finish(
         &self,
         uv: Vec<(f32, f32)>,
@@ -235,32 +304,7 @@ impl HairModel {
         curvature: Vec<f32>,
         opts: &Reconstruct,
     ) -> Result<Strands> {
-        if local.len() != uv.len() * POINTS || curvature.len() != local.len() {
-            return Err(Error::Invalid("hair: strand count mismatch".into()));
-        }
-        let mut points = Vec::with_capacity(local.len());
-        let mut curled = 0;
-        for (i, &(u, v)) in uv.iter().enumerate() {
-            let (root, _) = self.scalp.root(u, v);
-            let s: Vec<[f32; 3]> = local[i * POINTS..(i + 1) * POINTS]
-                .iter()
-                .map(|p| [p[0] + root[0], p[1] + root[1], p[2] + root[2]])
-                .collect();
-            let (s, c) = strand::restore(
-                &s,
-                &curvature[i * POINTS..(i + 1) * POINTS],
-                opts.smooth_sigma,
-                opts.curl_threshold,
-            );
-            curled += c as usize;
-            points.extend(s);
-        }
-        Ok(Strands {
-            uv,
-            points,
-            curvature,
-            curled,
-        })
+        self.decoding().finish(uv, local, curvature, opts)
     }
 
     /// The scalp the strands grow from.
