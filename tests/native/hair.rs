@@ -532,7 +532,7 @@ fn the_gabor_bank_recovers_synthetic_orientations() {
     let x = network_input(&img, &hair, Some(&body), w, h, &bank).unwrap();
     assert_eq!(x.len(), 3 * 256 * 256);
     let plane = 256 * 256;
-    assert!(x[2 * plane..].iter().any(|&v| v == 1.0) && x[2 * plane..].iter().any(|&v| v == 0.5));
+    assert!(x[2 * plane..].contains(&1.0) && x[2 * plane..].contains(&0.5));
     assert!(network_input(&img, &vec![0.0; w * h], None, w, h, &bank).is_err());
     assert!(network_input(&img[1..], &hair, None, w, h, &bank).is_err());
     let mut nan = img.clone();
