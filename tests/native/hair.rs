@@ -462,6 +462,60 @@ mod model {
             .dispatch(h.device(), h.queue(), &up[1..], uv.len())
             .is_err());
     }
+
+    /// The bundled model on fresh procedural hairs (seeds never generated
+    /// for training): strands land closer to the truth than two baselines,
+    /// all points at their roots, and the mean training-style hair shape
+    /// (straight down from each root for the class' typical length).
+    #[test]
+    fn the_bundled_model_beats_simple_baselines() {
+        let m = model();
+        let body = Body::default();
+        let opts = Reconstruct {
+            strands: GRID * GRID,
+            smooth_sigma: 0.0,
+            curl_threshold: f32::INFINITY,
+        };
+        let (mut model_d, mut root_d, mut down_d, mut n) = (0.0f64, 0.0f64, 0.0f64, 0usize);
+        for (k, class) in [
+            (Length::S, Curl::Straight),
+            (Length::M, Curl::Wavy),
+            (Length::L, Curl::Curly),
+            (Length::XL, Curl::Straight),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let class = HairClass {
+                length: class.0,
+                curl: class.1,
+            };
+            let mut rng = Rng::new(1_000_003 + k as u64);
+            let st = Style::random(class, &mut rng);
+            let h = Hair::generate(&st, &Scalp::default(), &body, GRID, &mut rng).unwrap();
+            let img = render(&h.points, &body, &View::random(&mut rng), 256, &mut rng)
+                .unwrap()
+                .image;
+            let r = m.reconstruct(&img, &opts).unwrap();
+            let len = class.typical_length();
+            for (i, (p, q)) in r.points.iter().zip(&h.points).enumerate() {
+                let root = h.roots[i / POINTS];
+                let j = (i % POINTS) as f32 / (POINTS - 1) as f32;
+                let d =
+                    |a: [f32; 3]| (0..3).map(|c| (a[c] - q[c]).powi(2)).sum::<f32>().sqrt() as f64;
+                model_d += d(*p);
+                root_d += d(root);
+                down_d += d([root[0], root[1] - j * len, root[2]]);
+                n += 1;
+            }
+        }
+        let (md, rd, dd) = (model_d / n as f64, root_d / n as f64, down_d / n as f64);
+        eprintln!("mean distance to the truth: model {:.2} cm, roots only {:.2} cm, straight down {:.2} cm", md * 100.0, rd * 100.0, dd * 100.0);
+        assert!(
+            md < 0.6 * rd && md < 0.8 * dd,
+            "model {md}, roots {rd}, down {dd}"
+        );
+    }
 }
 
 /// The photo path's filter bank recovers known orientations: straight
