@@ -186,15 +186,21 @@ fn matrix(t: &tract_onnx::pb::TensorProto) -> Option<(usize, usize, Vec<f32>)> {
         return None;
     }
     let (r, c) = (t.dims[0] as usize, t.dims[1] as usize);
-    let v: Vec<f32> = if !t.raw_data.is_empty() {
+    let v = initializer_floats(t);
+    (v.len() == r * c).then_some((r, c, v))
+}
+
+/// The values of an ONNX float initializer, from `raw_data` (little-endian)
+/// or `float_data`, whichever the exporter filled.
+pub fn initializer_floats(t: &tract_onnx::pb::TensorProto) -> Vec<f32> {
+    if !t.raw_data.is_empty() {
         t.raw_data
             .chunks_exact(4)
             .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
             .collect()
     } else {
         t.float_data.clone()
-    };
-    (v.len() == r * c).then_some((r, c, v))
+    }
 }
 
 /// Replaces `MatMul(A, B)` of two 2-D float initializers by an initializer

@@ -90,14 +90,7 @@ fn head_weights(onnx: &[u8], c: usize) -> Result<HeadWeights> {
             .iter()
             .find(|t| t.name == name)
             .ok_or_else(|| Error::Model(format!("hair strands: no initializer '{name}'")))?;
-        let v: Vec<f32> = if !t.raw_data.is_empty() {
-            t.raw_data
-                .chunks_exact(4)
-                .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-                .collect()
-        } else {
-            t.float_data.clone()
-        };
+        let v = crate::runtime::initializer_floats(t);
         if v.len() != len {
             return Err(Error::Model(format!(
                 "hair strands: '{name}' has {} values, expected {len}",
