@@ -3,6 +3,20 @@
 // its WebGL2 fallback on a lost device.
 import { Viewer } from './pkg/deeprep.js';
 
+/** The bytes at `url`; an Error naming the URL and HTTP status otherwise. */
+export async function fetchBytes(url) {
+  const r = await fetch(url);
+  if (!r.ok) throw new Error(`${url}: HTTP ${r.status}`);
+  return new Uint8Array(await r.arrayBuffer());
+}
+
+/** The text at `url`; an Error "<what>: HTTP <status>" otherwise. */
+export async function fetchText(url, what) {
+  const r = await fetch(url);
+  if (!r.ok) throw new Error(`${what}: HTTP ${r.status}`);
+  return r.text();
+}
+
 /** A module worker answering {id, ...} requests with {type: 'result'|'error'|'progress', id}. */
 export function workerClient(url, { onProgress = () => {}, onError = () => {} } = {}) {
   const worker = new Worker(url, { type: 'module' });

@@ -7,16 +7,12 @@
 //      gpu: decode on WebGPU compute (opened on first use); rejects where WebGPU is missing
 //   <- {type: 'error', id, message}
 import init, { HairLab } from './pkg/deeprep.js';
+import { fetchBytes, fetchText } from './common.js';
 
 let lab = null;
 let gpu = null;
 const ready = init();
 
-async function fetchBytes(url) {
-  const r = await fetch(url);
-  if (!r.ok) throw new Error(`${url}: HTTP ${r.status}`);
-  return new Uint8Array(await r.arrayBuffer());
-}
 
 async function handle(msg) {
   await ready;
@@ -24,7 +20,7 @@ async function handle(msg) {
     const base = msg.modelBase;
     const [f, s, m] = await Promise.all([
       fetchBytes(`${base}/hair_features.onnx`), fetchBytes(`${base}/hair_strands.onnx`),
-      fetch(`${base}/hair_features.manifest.json`).then((r) => { if (!r.ok) throw new Error(`hair manifest: HTTP ${r.status}`); return r.text(); }),
+      fetchText(`${base}/hair_features.manifest.json`, 'hair manifest'),
     ]);
     lab = new HairLab(f, s, m);
     return { classNames: HairLab.classNames(), bodyPositions: lab.bodyPositions(), bodyTriangles: lab.bodyTriangles() };

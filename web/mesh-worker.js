@@ -6,15 +6,11 @@
 //   -> {type: 'blend', id, a, b, vertex, t}   <- {positions, decodeMs}
 //   <- {type: 'progress', id, stage} ... | {type: 'error', id, message}
 import init, { MeshLab } from './pkg/deeprep.js';
+import { fetchBytes, fetchText } from './common.js';
 
 let lab = null;
 const ready = init();
 
-async function fetchBytes(url) {
-  const r = await fetch(url);
-  if (!r.ok) throw new Error(`${url}: HTTP ${r.status}`);
-  return new Uint8Array(await r.arrayBuffer());
-}
 
 async function handle(msg) {
   const { id } = msg;
@@ -24,7 +20,7 @@ async function handle(msg) {
     const base = msg.modelBase;
     const [enc, dec, manifest] = await Promise.all([
       fetchBytes(`${base}/mesh_encoder.onnx`), fetchBytes(`${base}/mesh_decoder.onnx`),
-      fetch(`${base}/mesh_autoencoder.manifest.json`).then((r) => { if (!r.ok) throw new Error(`mesh manifest: HTTP ${r.status}`); return r.text(); }),
+      fetchText(`${base}/mesh_autoencoder.manifest.json`, 'mesh manifest'),
     ]);
     postMessage({ type: 'progress', id, stage: 'reading the glTF and sampling its graph' });
     const next = new MeshLab(new Uint8Array(msg.glb), enc, dec, manifest);
