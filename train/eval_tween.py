@@ -18,6 +18,10 @@ Metrics, on the frames strictly between keys:
         one gap, not gaps with each other).
   foot skating: mean horizontal foot speed (units/frame) while the foot is
         within 5 units of the clip's floor.
+  acceleration: mean norm of the second difference of global joint
+        positions (units/frame^2) on the frames between keys; the ground
+        truth's is printed beside it. Far above it means jitter, far below
+        means motion smoother (stiffer) than captured motion.
   key alignment: the model's mean key errors before/after post-processing.
 
 Writes docs/inbetween_eval.json and docs/inbetween_eval.png and prints a
@@ -118,6 +122,11 @@ def mat_to_quat(m):
     return q / np.linalg.norm(q, axis=-1, keepdims=True)
 
 
+def accel(pos):
+    """Mean norm of the second difference of global joint positions [T, J, 3]."""
+    return float(np.linalg.norm(pos[2:] - 2 * pos[1:-1] + pos[:-2], axis=-1).mean())
+
+
 def npss(gt, pred):
     """LaFAN1's NPSS. gt, pred: [batch, time, features]."""
     gt_p = np.square(np.real(np.fft.fft(gt, axis=1)))
@@ -148,8 +157,8 @@ def main():
             chunks.append(w.reshape(300, -1))
     flat = np.concatenate(chunks)
     mu, sd = flat.mean(0), flat.std(0) + 1e-6
-    acc = {(m, g): {"l2p": [], "l2q": [], "gt": [], "pred": [], "skate": [], "keyraw": [], "key": []} for m in METHODS for g in GAPS}
-    gt_skate = []
+    acc = {(m, g): {"l2p": [], "l2q": [], "gt": [], "pred": [], "skate": [], "accel": [], "keyraw": [], "key": []} for m in METHODS for g in GAPS}
+    gt_skate, gt_accel = [], []
     with tempfile.TemporaryDirectory() as tmp:
         for cls in sorted(TRUE_FPS):
             for name in sorted(os.listdir(os.path.join(DATA, cls))):
@@ -192,6 +201,9 @@ def main():
                             v = np.linalg.norm(fp[1:, :, [0, 2]] - fp[:-1, :, [0, 2]], axis=-1)
                             contact = fp[1:, :, 1] < floor + 5
                             acc[(m, g)]["skate"].append(float(v[contact].mean()) if contact.any() else 0.0)
+                            acc[(m, g)]["accel"].append(accel(ppos[a:b + 1]))
+                            if m == METHODS[0]:
+                                gt_accel.append(accel(gpos[a:b + 1]))
                     if g == GAPS[0]:
                         fg = gpos[:, feet]
                         v = np.linalg.norm(fg[1:, :, [0, 2]] - fg[:-1, :, [0, 2]], axis=-1)
@@ -203,20 +215,23 @@ def main():
             "L2P": float(np.mean(a["l2p"])), "L2Q": float(np.mean(a["l2q"])),
             "NPSS": float(np.mean([npss(x[None], y[None]) for x, y in zip(a["gt"], a["pred"])])),
             "foot_skate": float(np.mean(a["skate"])),
+            "acceleration": float(np.mean(a["accel"])),
         }
         if a["key"]:
             res[f"{m}@{g}"]["key_error_before_post"] = np.mean(a["keyraw"], 0).tolist()
             res[f"{m}@{g}"]["key_error_after_post"] = np.mean(a["key"], 0).tolist()
     res["ground_truth_foot_skate"] = float(np.mean(gt_skate))
+    res["ground_truth_acceleration"] = float(np.mean(gt_accel))
     os.makedirs(os.path.join(ROOT, "docs"), exist_ok=True)
     with open(os.path.join(ROOT, "docs", "inbetween_eval.json"), "w") as f:
         json.dump(res, f, indent=1)
     print("| metric | method | " + " | ".join(f"gap {g}" for g in GAPS) + " |")
     print("|---|---|" + "---|" * len(GAPS))
-    for metric in ["L2P", "L2Q", "NPSS", "foot_skate"]:
+    for metric in ["L2P", "L2Q", "NPSS", "foot_skate", "acceleration"]:
         for m in METHODS:
             print(f"| {metric} | {m} | " + " | ".join(f"{res[f'{m}@{g}'][metric]:.3f}" for g in GAPS) + " |")
     print(f"ground-truth foot skating: {res['ground_truth_foot_skate']:.3f} units/frame")
+    print(f"ground-truth acceleration: {res['ground_truth_acceleration']:.3f} units/frame^2")
     for g in GAPS:
         r = res.get(f"model@{g}", {})
         if "key_error_before_post" in r:
