@@ -73,14 +73,13 @@ def rep_frames(rc, k):
     return sorted(picked)
 
 
-GAPS = "uniform"  # or "loguniform" (--gaps): how key intervals are drawn from [8, 300)
-
-
-def sample_keys(n, rng):
+def sample_keys(n, rng, gaps="uniform"):
+    """Key frames in a window of n: intervals drawn from [8, 300), uniformly
+    or log-uniformly (gaps="loguniform", --gaps)."""
     keys, t = [], int(rng.integers(0, 16))
     while t < n:
         keys.append(t)
-        if GAPS == "loguniform":
+        if gaps == "loguniform":
             t += int(math.exp(rng.uniform(math.log(8), math.log(300))))
         else:
             t += int(rng.integers(8, 300))
@@ -89,7 +88,7 @@ def sample_keys(n, rng):
     return keys
 
 
-def make_batch(data, b, n, rng, fk):
+def make_batch(data, b, n, rng, fk, gaps="uniform"):
     J = len(data.joints)
     P = J * 3
     R = fk.output_dim
@@ -102,7 +101,7 @@ def make_batch(data, b, n, rng, fk):
     for i in range(b):
         sl = data.window(n, rng)
         lo, ro, r = data.local[sl], data.root[sl], data.rc[sl]
-        keys = sample_keys(n, rng)
+        keys = sample_keys(n, rng, gaps)
         ref = ro[keys][:, [0, 2]].mean(0)
         frame_pose = lo.clone()
         frame_pose[:, 0, :] = ro
@@ -197,10 +196,10 @@ def main():
     ap.add_argument("--lr-g", type=float, default=2e-4, help="generator learning rate (Adam)")
     ap.add_argument("--lr-d", type=float, default=1e-4, help="discriminator learning rate (Adam)")
     ap.add_argument("--acc-weight", type=float, default=0.0,
-                    help="weight of the acceleration loss (not in the thesis; runs 8-9: jitter, see train/README.md)")
+                    help="weight of the acceleration loss (not in the thesis; runs 8-12: jitter, see train/README.md)")
     ap.add_argument("--gan-weight", type=float, default=None, help="weight of the generator's GAN loss (default 1)")
     ap.add_argument("--gaps", choices=["uniform", "loguniform"], default="uniform",
-                    help="key interval distribution; loguniform trains short gaps as often as long ones (run 11)")
+                    help="key interval distribution; loguniform trains short gaps as often as long ones (runs 11-12)")
     ap.add_argument("--resume", default=None, help="continue from a gen.pt checkpoint (generator and discriminator)")
     args = ap.parse_args()
     torch.set_num_threads(args.threads)
@@ -208,8 +207,6 @@ def main():
     if args.dna_weight is not None:
         W["dna1"] = W["dna2"] = args.dna_weight
     W["acc"] = args.acc_weight
-    global GAPS
-    GAPS = args.gaps
     if args.gan_weight is not None:
         W["gan"] = args.gan_weight
     rng = np.random.default_rng(args.seed)
@@ -252,7 +249,7 @@ def main():
     n, b = args.frames, args.batch
     t0, step = time.time(), step0
     while time.time() - t0 < args.gen_minutes * 60:
-        dense, dense_rot, mask, dna, local, root, rc, keysets = make_batch(data, b, n, rng, fk)
+        dense, dense_rot, mask, dna, local, root, rc, keysets = make_batch(data, b, n, rng, fk, args.gaps)
         raw = G(dense, dense_rot, dna).transpose(1, 2)           # [B, N, out]
         gen = fk(raw, torch.zeros(b, n, 3))                      # [B, N, J, 3] local (root at 0)
         gen_s, gt_s = gen / SCALE, local / SCALE
@@ -260,7 +257,7 @@ def main():
         losses["recon"] = ((gen_s - gt_s) ** 2).sum(-1).mean()
         # velocity term (not in the thesis): frame-to-frame motion like the ground truth's
         losses["vel"] = (((gen_s[:, 1:] - gen_s[:, :-1]) - (gt_s[:, 1:] - gt_s[:, :-1])) ** 2).sum(-1).mean() * 25.0
-        # acceleration term (not in the thesis): run 7's output had 2.5x the ground truth's
+        # acceleration term (not in the thesis): run 7's output had 2.4x the ground truth's
         # frame-to-frame acceleration (jitter), which the discriminator and NPSS both punish
         acc_g = gen_s[:, 2:] - 2 * gen_s[:, 1:-1] + gen_s[:, :-2]
         acc_t = gt_s[:, 2:] - 2 * gt_s[:, 1:-1] + gt_s[:, :-2]

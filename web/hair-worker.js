@@ -13,7 +13,6 @@ let lab = null;
 let gpu = null;
 const ready = init();
 
-
 async function handle(msg) {
   await ready;
   if (msg.type === 'init') {
