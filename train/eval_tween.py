@@ -26,6 +26,11 @@ Metrics, on the frames strictly between keys:
 
 Writes docs/inbetween_eval.json and docs/inbetween_eval.png and prints a
 Markdown table.  Run: train/.venv/bin/python train/eval_tween.py
+
+With EVAL_HYBRIDS=1 it also scores the model's output with one channel group
+(root position, root rotation, all joints, spine, arms or legs) replaced by
+SLERP+LERP's, and writes docs/inbetween_hybrids.json instead: which part of
+the model gains or loses against interpolation.
 """
 import json
 import os
@@ -43,6 +48,10 @@ from data_pipeline import DATA, TRUE_FPS, VALIDATION, take_of  # noqa: E402
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 GAPS = [30, 60, 120, 300]
 METHODS = os.environ.get("EVAL_METHODS", "zerovel,slerp,model").split(",")
+# EVAL_HYBRIDS=1: also score the model's output with one channel group taken
+# from SLERP+LERP's, to show which part of the model costs what.
+HYBRIDS = {f"model, slerp {g}": g for g in ["root position", "root rotation", "joints", "spine", "arms", "legs"]} \
+    if os.environ.get("EVAL_HYBRIDS") == "1" else {}
 FEET = ["lFoot", "rFoot", "lFoot_Nub", "rFoot_Nub"]
 
 
@@ -140,6 +149,51 @@ def npss(gt, pred):
     return float(np.average(emd, weights=w))
 
 
+def score(acc, pred, truth, keys, feet, floor, mu, sd):
+    """Appends every key interval's metrics to acc. pred, truth: (global positions, rotations)."""
+    ppos, prot = pred
+    gpos, grot = truth
+    for a, b in zip(keys[:-1], keys[1:]):
+        sl = slice(a + 1, b)
+        off = gpos[a, 0].copy()
+        off[1] = 0
+        P = ((ppos[sl] - off).reshape(b - a - 1, -1) - mu) / sd
+        G = ((gpos[sl] - off).reshape(b - a - 1, -1) - mu) / sd
+        acc["l2p"].append(np.linalg.norm(P - G, axis=1).mean())
+        qg, qp = mat_to_quat(grot[sl]), mat_to_quat(prot[sl])
+        sign = np.sign((qg * qp).sum(-1, keepdims=True))
+        sign[sign == 0] = 1
+        qp = qp * sign
+        acc["l2q"].append(np.linalg.norm((qp - qg).reshape(b - a - 1, -1), axis=1).mean())
+        acc["gt"].append(qg.reshape(b - a - 1, -1))
+        acc["pred"].append(qp.reshape(b - a - 1, -1))
+        fp = ppos[a:b, feet]
+        v = np.linalg.norm(fp[1:, :, [0, 2]] - fp[:-1, :, [0, 2]], axis=-1)
+        contact = fp[1:, :, 1] < floor + 5
+        acc["skate"].append(float(v[contact].mean()) if contact.any() else 0.0)
+        acc["accel"].append(accel(ppos[a:b + 1]))
+
+
+def hybrid_columns(bvh, group):
+    """Motion columns of one channel group: "root position", "root rotation",
+    "joints" (every non-root joint), or a body part ("spine", "arms", "legs")."""
+    names, _, _, chans, _ = bvh
+    legs = ("Buttock", "Thigh", "Shin", "Foot")
+    arms = ("Collar", "Shldr", "ForeArm", "Hand", "Thumb", "Index", "Mid", "Ring", "Pinky")
+    cols, col = [], 0
+    for j, (name, ch) in enumerate(zip(names, chans)):
+        for c in ch:
+            if j == 0:
+                take = group == "root position" if c.endswith("position") else group == "root rotation"
+            else:
+                part = "legs" if any(x in name for x in legs) else "arms" if any(x in name for x in arms) else "spine"
+                take = group in ("joints", part)
+            if take:
+                cols.append(col)
+            col += 1
+    return cols
+
+
 def main():
     if not os.path.isdir(DATA):
         sys.exit(f"SKIP: {DATA} is absent")
@@ -157,7 +211,10 @@ def main():
             chunks.append(w.reshape(300, -1))
     flat = np.concatenate(chunks)
     mu, sd = flat.mean(0), flat.std(0) + 1e-6
-    acc = {(m, g): {"l2p": [], "l2q": [], "gt": [], "pred": [], "skate": [], "accel": [], "keyraw": [], "key": []} for m in METHODS for g in GAPS}
+    if HYBRIDS and not {"model", "slerp"} <= set(METHODS):
+        sys.exit("EVAL_HYBRIDS needs model and slerp in EVAL_METHODS")
+    acc = {(m, g): {"l2p": [], "l2q": [], "gt": [], "pred": [], "skate": [], "accel": [], "keyraw": [], "key": []}
+           for m in METHODS + list(HYBRIDS) for g in GAPS}
     gt_skate, gt_accel = [], []
     with tempfile.TemporaryDirectory() as tmp:
         for cls in sorted(TRUE_FPS):
@@ -182,28 +239,15 @@ def main():
                             nums = [float(x) for x in re.findall(r"root ([0-9.]+), joints ([0-9.]+)", r.stderr)[0] + re.findall(r"root ([0-9.]+), joints ([0-9.]+)", r.stderr)[1]]
                             acc[(m, g)]["keyraw"].append(nums[:2])
                             acc[(m, g)]["key"].append(nums[2:])
-                        ppos, prot = global_fk(read_bvh(out))
-                        for a, b in zip(keys[:-1], keys[1:]):
-                            sl = slice(a + 1, b)
-                            off = gpos[a, 0].copy()
-                            off[1] = 0
-                            P = ((ppos[sl] - off).reshape(b - a - 1, -1) - mu) / sd
-                            G = ((gpos[sl] - off).reshape(b - a - 1, -1) - mu) / sd
-                            acc[(m, g)]["l2p"].append(np.linalg.norm(P - G, axis=1).mean())
-                            qg, qp = mat_to_quat(grot[sl]), mat_to_quat(prot[sl])
-                            sign = np.sign((qg * qp).sum(-1, keepdims=True))
-                            sign[sign == 0] = 1
-                            qp = qp * sign
-                            acc[(m, g)]["l2q"].append(np.linalg.norm((qp - qg).reshape(b - a - 1, -1), axis=1).mean())
-                            acc[(m, g)]["gt"].append(qg.reshape(b - a - 1, -1))
-                            acc[(m, g)]["pred"].append(qp.reshape(b - a - 1, -1))
-                            fp = ppos[a:b, feet]
-                            v = np.linalg.norm(fp[1:, :, [0, 2]] - fp[:-1, :, [0, 2]], axis=-1)
-                            contact = fp[1:, :, 1] < floor + 5
-                            acc[(m, g)]["skate"].append(float(v[contact].mean()) if contact.any() else 0.0)
-                            acc[(m, g)]["accel"].append(accel(ppos[a:b + 1]))
-                            if m == METHODS[0]:
-                                gt_accel.append(accel(gpos[a:b + 1]))
+                        score(acc[(m, g)], global_fk(read_bvh(out)), (gpos, grot), keys, feet, floor, mu, sd)
+                    gt_accel.extend(accel(gpos[a:b + 1]) for a, b in zip(keys[:-1], keys[1:]))
+                    for h, group in HYBRIDS.items():
+                        cols = hybrid_columns(gt, group)
+                        mb = read_bvh(os.path.join(tmp, f"out_model_{g}.bvh"))
+                        sb = read_bvh(os.path.join(tmp, f"out_slerp_{g}.bvh"))
+                        data = mb[4].copy()
+                        data[:, cols] = sb[4][:, cols]
+                        score(acc[(h, g)], global_fk(mb[:4] + (data,)), (gpos, grot), keys, feet, floor, mu, sd)
                     if g == GAPS[0]:
                         fg = gpos[:, feet]
                         v = np.linalg.norm(fg[1:, :, [0, 2]] - fg[:-1, :, [0, 2]], axis=-1)
@@ -223,12 +267,13 @@ def main():
     res["ground_truth_foot_skate"] = float(np.mean(gt_skate))
     res["ground_truth_acceleration"] = float(np.mean(gt_accel))
     os.makedirs(os.path.join(ROOT, "docs"), exist_ok=True)
-    with open(os.path.join(ROOT, "docs", "inbetween_eval.json"), "w") as f:
+    name = "inbetween_hybrids.json" if HYBRIDS else "inbetween_eval.json"
+    with open(os.path.join(ROOT, "docs", name), "w") as f:
         json.dump(res, f, indent=1)
     print("| metric | method | " + " | ".join(f"gap {g}" for g in GAPS) + " |")
     print("|---|---|" + "---|" * len(GAPS))
     for metric in ["L2P", "L2Q", "NPSS", "foot_skate", "acceleration"]:
-        for m in METHODS:
+        for m in METHODS + list(HYBRIDS):
             print(f"| {metric} | {m} | " + " | ".join(f"{res[f'{m}@{g}'][metric]:.3f}" for g in GAPS) + " |")
     print(f"ground-truth foot skating: {res['ground_truth_foot_skate']:.3f} units/frame")
     print(f"ground-truth acceleration: {res['ground_truth_acceleration']:.3f} units/frame^2")
@@ -250,7 +295,8 @@ def main():
             ax[i].set_title(metric + " (lower is better)")
         ax[0].legend()
         fig.tight_layout()
-        fig.savefig(os.path.join(ROOT, "docs", "inbetween_eval.png"), dpi=110)
+        if not HYBRIDS:
+            fig.savefig(os.path.join(ROOT, "docs", "inbetween_eval.png"), dpi=110)
     except ImportError:
         print("matplotlib missing: no plot")
 
