@@ -46,7 +46,7 @@ def main():
     gck = torch.load(os.path.join(OUT, "gen.pt"))
     path = PathPredictor(P)
     path.load_state_dict(pck["model"])
-    gen = Generator(P, fk.output_dim)
+    gen = Generator(P, fk.output_dim, gate_tau=gck["args"].get("gate_tau"))
     gen.load_state_dict(gck["G"])
     path.eval()
     gen.eval()

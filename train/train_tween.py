@@ -200,6 +200,8 @@ def main():
     ap.add_argument("--gan-weight", type=float, default=None, help="weight of the generator's GAN loss (default 1)")
     ap.add_argument("--gaps", choices=["uniform", "loguniform"], default="uniform",
                     help="key interval distribution; loguniform trains short gaps as often as long ones (runs 11-12)")
+    ap.add_argument("--gate-tau", type=float, default=None,
+                    help="gate the generator's correction by the distance to the nearest key, tau in seconds (run 13)")
     ap.add_argument("--resume", default=None, help="continue from a gen.pt checkpoint (generator and discriminator)")
     args = ap.parse_args()
     torch.set_num_threads(args.threads)
@@ -236,12 +238,14 @@ def main():
         p.requires_grad_(False)
     torch.save({"model": path.state_dict(), "steps": psteps, "table_5_2_val": table}, os.path.join(OUT, "path.pt"))
 
-    G = Generator(P, fk.output_dim)
+    G = Generator(P, fk.output_dim, gate_tau=args.gate_tau)
     D = Discriminator(P)
     step0 = 0
     if args.resume:
         ck = torch.load(args.resume)
-        G.load_state_dict(ck["G"])
+        missing, unexpected = G.load_state_dict(ck["G"], strict=False)
+        if unexpected or any(k != "log_tau" for k in missing):
+            sys.exit(f"--resume {args.resume}: missing {missing}, unexpected {unexpected}")
         D.load_state_dict(ck["D"])
         step0 = ck["steps"]
     og = torch.optim.Adam(G.parameters(), lr=args.lr_g, betas=(0.5, 0.99))

@@ -76,9 +76,17 @@ class Generator(nn.Module):
     Encoder: an input conv and 6 stride-2 convs with modified residual convs;
     decoder: 6 transposed convs with modified residual convs, then an output conv."""
 
-    def __init__(self, pose_dim: int, out_dim: int, widths=(96, 128, 160, 192, 224, 256), dna_dim: int = 64):
+    def __init__(self, pose_dim: int, out_dim: int, widths=(96, 128, 160, 192, 224, 256), dna_dim: int = 64,
+                 gate_tau: float | None = None):
         super().__init__()
         w0 = widths[0]
+        # Key gate (not in the thesis, run 13): the correction is scaled by
+        # 1 - exp(-(d / tau)^2), d the distance to the nearest whole-pose key
+        # in seconds (dense_rot's first distance channel), tau learned. The
+        # bottleneck is 64 frames coarse, so near keys and in short gaps the
+        # correction cannot be placed precisely and made the output worse
+        # than its own base (train/README.md, runs 9-11).
+        self.log_tau = nn.Parameter(torch.tensor(math.log(gate_tau))) if gate_tau else None
         self.out_dim = out_dim
         self.inp = nn.Sequential(nn.Conv1d(2 * pose_dim + 2 * out_dim, w0, 3, padding=1), nn.PReLU(w0))
         enc, cin = [], w0
@@ -104,7 +112,11 @@ class Generator(nn.Module):
         z = self.enc(self.inp(torch.cat([dense, dense_rot], dim=1)))
         w = self.dna(dna_frames)
         z = torch.cat([z, w.unsqueeze(-1).expand(-1, -1, z.shape[-1])], dim=1)
-        return dense_rot[:, : self.out_dim] + self.out(self.dec(z))
+        corr = self.out(self.dec(z))
+        if self.log_tau is not None:
+            d = dense_rot[:, self.out_dim: self.out_dim + 1]
+            corr = corr * (1 - torch.exp(-(d / torch.exp(self.log_tau)) ** 2))
+        return dense_rot[:, : self.out_dim] + corr
 
     def resconvs(self):
         return [m for m in self.modules() if isinstance(m, ModResConv)]
