@@ -28,7 +28,7 @@ Writes docs/inbetween_eval.json and docs/inbetween_eval.png and prints a
 Markdown table.  Run: train/.venv/bin/python train/eval_tween.py
 
 With EVAL_HYBRIDS=1 it also scores the model's output with one channel group
-(root position, root rotation, all joints, spine, arms or legs) replaced by
+(root position, root rotation, all joints, spine, arms, hands or legs) replaced by
 SLERP+LERP's, and writes docs/inbetween_hybrids.json instead: which part of
 the model gains or loses against interpolation.
 """
@@ -50,7 +50,7 @@ GAPS = [30, 60, 120, 300]
 METHODS = os.environ.get("EVAL_METHODS", "zerovel,slerp,model").split(",")
 # EVAL_HYBRIDS=1: also score the model's output with one channel group taken
 # from SLERP+LERP's, to show which part of the model costs what.
-HYBRIDS = {f"model, slerp {g}": g for g in ["root position", "root rotation", "joints", "spine", "arms", "legs"]} \
+HYBRIDS = {f"model, slerp {g}": g for g in ["root position", "root rotation", "joints", "spine", "arms", "hands", "legs"]} \
     if os.environ.get("EVAL_HYBRIDS") == "1" else {}
 FEET = ["lFoot", "rFoot", "lFoot_Nub", "rFoot_Nub"]
 
@@ -176,17 +176,20 @@ def score(acc, pred, truth, keys, feet, floor, mu, sd):
 
 def hybrid_columns(bvh, group):
     """Motion columns of one channel group: "root position", "root rotation",
-    "joints" (every non-root joint), or a body part ("spine", "arms", "legs")."""
+    "joints" (every non-root joint), or a body part ("spine", "arms": collars to
+    forearms, "hands": hands and fingers, "legs")."""
     names, _, _, chans, _ = bvh
     legs = ("Buttock", "Thigh", "Shin", "Foot")
-    arms = ("Collar", "Shldr", "ForeArm", "Hand", "Thumb", "Index", "Mid", "Ring", "Pinky")
+    arms = ("Collar", "Shldr", "ForeArm")
+    hands = ("Hand", "Thumb", "Index", "Mid", "Ring", "Pinky")
     cols, col = [], 0
     for j, (name, ch) in enumerate(zip(names, chans)):
         for c in ch:
             if j == 0:
                 take = group == "root position" if c.endswith("position") else group == "root rotation"
             else:
-                part = "legs" if any(x in name for x in legs) else "arms" if any(x in name for x in arms) else "spine"
+                part = ("legs" if any(x in name for x in legs) else "arms" if any(x in name for x in arms)
+                        else "hands" if any(x in name for x in hands) else "spine")
                 take = group in ("joints", part)
             if take:
                 cols.append(col)
