@@ -51,6 +51,7 @@ fn main() {
             frames: n,
             dna: None,
             post_process: true,
+            foot_lock: Some(deeprep::motion::feet::FootLock::default()),
         };
         // The first call at a length also optimizes tract's plan for it.
         let t = Instant::now();

@@ -326,6 +326,7 @@ impl Inbetweener {
             frames,
             dna,
             post_process,
+            foot_lock: post_process.then(crate::motion::feet::FootLock::default),
         };
         let now = || js_sys::Date::now();
         let out = self.inner.synthesize(&req, &now).map_err(js_err)?;

@@ -3,6 +3,7 @@
 
 use deeprep::motion::baseline::{slerp_lerp, zero_velocity};
 use deeprep::motion::dense::{dense_input, Norm};
+use deeprep::motion::feet::FootLock;
 use deeprep::motion::pipeline::{Request, TweenModels};
 use deeprep::motion::post::make_keys_exact;
 use deeprep::motion::{Keyframe, Motion};
@@ -219,6 +220,7 @@ fn the_model_pipeline_hits_keys_exactly_after_post_processing() {
         frames: 230,
         dna: None,
         post_process: true,
+        foot_lock: Some(FootLock::default()),
     };
     let out = m.synthesize(&req, &|| 0.0).unwrap();
     assert_eq!(out.motion.len(), 230);
@@ -250,6 +252,7 @@ fn the_model_pipeline_hits_keys_exactly_after_post_processing() {
         frames: 800,
         dna: None,
         post_process: true,
+        foot_lock: Some(FootLock::default()),
     };
     assert!(m
         .synthesize(&far, &|| 0.0)
@@ -341,4 +344,123 @@ fn dense_inputs_match_the_pytorch_training_code() {
     let mut drot = dense_channels(&rows, r, n, &NORM);
     drot[..r * n].copy_from_slice(&interp_channels(&rows, r, n));
     close(&drot, &floats(&f["dense_rot"]), "dense key rotations");
+}
+
+// ---------------------------------------------------------------------------
+// Foot locking.
+
+const LEG_BVH: &str = "HIERARCHY
+ROOT hip
+{
+  OFFSET 0 0 0
+  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation
+  JOINT lThigh
+  {
+    OFFSET 10 0 0
+    CHANNELS 3 Zrotation Xrotation Yrotation
+    JOINT lShin
+    {
+      OFFSET 0 -40 0
+      CHANNELS 3 Zrotation Xrotation Yrotation
+      JOINT lFoot
+      {
+        OFFSET 0 -40 0
+        CHANNELS 3 Zrotation Xrotation Yrotation
+        End Site
+        {
+          OFFSET 0 0 10
+        }
+      }
+    }
+  }
+}
+MOTION
+Frames: 1
+Frame Time: 0.0166667
+0 75 0 0 0 0 0 30 0 0 -60 0 0 30 0
+";
+
+/// Global ankle position and foot rotation of the leg skeleton.
+fn ankle(m: &Motion, f: usize, b: &Bvh) -> ([f64; 3], Mat3<f64>) {
+    let parents: Vec<Option<usize>> = b.joints.iter().map(|j| j.parent).collect();
+    let offsets: Vec<[f64; 3]> = b
+        .joints
+        .iter()
+        .map(|j| j.offset.map(|v| v as f64))
+        .collect();
+    let p = m.local_positions(f, &parents, &offsets)[3];
+    let mut r = m.rotations[f][0];
+    for j in 1..4 {
+        r = deeprep::rotation::mul(&r, &m.rotations[f][j]);
+    }
+    (
+        [
+            p[0] + m.root[f][0],
+            p[1] + m.root[f][1],
+            p[2] + m.root[f][2],
+        ],
+        r,
+    )
+}
+
+#[test]
+fn foot_locking_pins_a_sliding_foot_and_keeps_keys_exact() {
+    let b = Bvh::parse(LEG_BVH).unwrap();
+    assert_eq!(deeprep::motion::feet::legs(&b), vec![[1, 2, 3]]);
+    // The bent leg's pose, with the hip drifting forward 0.25 units a frame:
+    // the foot slides along the floor with it.
+    let pose = Keyframe::from_bvh(&b, 0, 0).unwrap();
+    let rots = pose.rotations.clone().unwrap();
+    let mut m = Motion {
+        root: (0..40).map(|t| [0.25 * t as f64, 75.0, 0.0]).collect(),
+        rotations: vec![rots.clone(); 40],
+    };
+    let mut keys = vec![pose.clone()];
+    let mut last = pose;
+    last.frame = 39;
+    last.positions[0] = m.root[39][0] as f32;
+    keys.push(last);
+    let before = m.clone();
+    let cfg = FootLock {
+        height: 4.0,
+        speed: 1.0,
+        min_frames: 4,
+        blend: 6,
+    };
+    let stats = deeprep::motion::feet::lock_feet(&mut m, &b, &keys, &cfg);
+    assert_eq!((stats.legs, stats.contacts), (1, 1), "{stats:?}");
+    // Keys are untouched.
+    for k in &keys {
+        for j in 0..4 {
+            assert!(
+                geodesic_distance(&m.rotations[k.frame][j], &before.rotations[k.frame][j]) < 1e-9
+            );
+        }
+    }
+    // The contact holds both keys: the foot is pinned where the key nearest
+    // its middle (frame 39) puts it, from the end of the first key's blend
+    // window on, its height and global rotation kept.
+    let (pin, _) = ankle(&before, 39, &b);
+    for f in 7..40 {
+        let (a, r) = ankle(&m, f, &b);
+        let (a0, r0) = ankle(&before, f, &b);
+        assert!(
+            (a[0] - pin[0]).abs() < 1e-6 && (a[2] - pin[2]).abs() < 1e-6,
+            "frame {f}: {a:?} vs {pin:?}"
+        );
+        assert!((a[1] - a0[1]).abs() < 1e-6);
+        assert!(geodesic_distance(&r, &r0) < 1e-9);
+    }
+    // ... and released smoothly towards the first key: no frame jumps.
+    for f in 1..40 {
+        let (a, _) = ankle(&m, f, &b);
+        let (p, _) = ankle(&m, f - 1, &b);
+        assert!((a[0] - p[0]).abs() < 2.5, "frame {f}");
+    }
+    // A skeleton without feet is left as it is.
+    let none = Bvh::parse(&LEG_BVH.replace("lFoot", "lAnkle")).unwrap();
+    let mut m2 = before.clone();
+    let s = deeprep::motion::feet::lock_feet(&mut m2, &none, &keys, &cfg);
+    assert_eq!(s.legs, 0);
+    assert_eq!(m2.rotations, before.rotations);
 }

@@ -24,10 +24,11 @@ const USAGE: &str = "usage:
       root position, root 6D, range-constrained Euler angles in radians, clamped to
       Table D.1), little-endian f32; for the training pipeline
   deeprep inbetween --from-bvh CLIP.bvh --keys F1,F2,... -o OUT.bvh
-          [--method model|slerp|zerovel] [--models DIR] [--no-post]
+          [--method model|slerp|zerovel] [--models DIR] [--no-post] [--no-foot-lock]
       whole-pose keys from those frames of CLIP; OUT has CLIP's length, frame rate and
       skeleton; frames between the first and last key are synthesized, the others copied
-  deeprep inbetween KEYS.json --frames N [-o OUT.bvh] [--models DIR] [--no-post]
+  deeprep inbetween KEYS.json --frames N [-o OUT.bvh] [--models DIR] [--no-post] [--no-foot-lock]
+      --no-post: keys not made exact, feet not locked; --no-foot-lock: keys exact, feet as synthesized
       KEYS.json: {\"keys\": [{\"frame\": F, \"channels\": [...]}, ...]} (BVH channels of the
       model's skeleton); without arguments, runs the bundled example models/examples/keys.json
   deeprep mesh topology ROBOT.glb --out TOPOLOGY.json
@@ -325,6 +326,7 @@ struct Opts {
     method: String,
     models: String,
     post: bool,
+    foot_lock: bool,
 }
 
 fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
@@ -337,6 +339,7 @@ fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
         method: "model".into(),
         models: "models/onnx".into(),
         post: true,
+        foot_lock: true,
     };
     let mut i = 0;
     while i < args.len() {
@@ -363,6 +366,11 @@ fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
                 i += 1;
                 continue;
             }
+            "--no-foot-lock" => {
+                o.foot_lock = false;
+                i += 1;
+                continue;
+            }
             a if !a.starts_with('-') && o.keys_json.is_none() => {
                 o.keys_json = Some(a.to_string());
                 i += 1;
@@ -381,6 +389,7 @@ fn synthesize(
     keys: &[deeprep::motion::Keyframe],
     frames: usize,
     post: bool,
+    foot_lock: bool,
 ) -> Result<(deeprep::motion::Motion, String), String> {
     use deeprep::motion::{baseline, pipeline};
     match method {
@@ -402,14 +411,17 @@ fn synthesize(
                 frames,
                 dna: None,
                 post_process: post,
+                foot_lock: foot_lock.then(deeprep::motion::feet::FootLock::default),
             };
             let out = m.synthesize(&req, &clock).map_err(|e| e.to_string())?;
             let info = format!(
-                "key error before post-processing: root {:.3}, joints {:.3}; after: root {:.3}, joints {:.3}; stages ms: generator {:.1}, rc-fk {:.1}, path {:.1}, post {:.1}",
+                "key error before post-processing: root {:.3}, joints {:.3}; after: root {:.3}, joints {:.3}; feet: {} contacts pinned over {} frames; stages ms: generator {:.1}, rc-fk {:.1}, path {:.1}, post {:.1}",
                 out.key_error_raw.root,
                 out.key_error_raw.local,
                 out.key_error.root,
                 out.key_error.local,
+                out.foot_lock.contacts,
+                out.foot_lock.frames,
                 out.times.generator_ms,
                 out.times.rcfk_ms,
                 out.times.path_ms,
@@ -449,7 +461,14 @@ fn inbetween(args: &[&str]) -> Result<(), String> {
             .map(|&f| Keyframe::from_bvh(&b, f, f.saturating_sub(first)))
             .collect::<Result<_, _>>()
             .map_err(|e| e.to_string())?;
-        let (motion, info) = synthesize(&o.method, &o.models, &keys, last - first + 1, o.post)?;
+        let (motion, info) = synthesize(
+            &o.method,
+            &o.models,
+            &keys,
+            last - first + 1,
+            o.post,
+            o.foot_lock,
+        )?;
         let synth = motion.to_bvh(&b, b.frame_time).map_err(|e| e.to_string())?;
         let mut out = b.clone();
         let c = b.channel_count();
@@ -508,7 +527,7 @@ fn inbetween(args: &[&str]) -> Result<(), String> {
         .frames
         .or(v["frames"].as_u64().map(|f| f as usize))
         .ok_or("--frames N is required (or \"frames\" in the keys file)")?;
-    let (motion, info) = synthesize(&o.method, &o.models, &keys, frames, o.post)?;
+    let (motion, info) = synthesize(&o.method, &o.models, &keys, frames, o.post, o.foot_lock)?;
     let out = motion.to_bvh(tpl, 1.0 / 60.0).map_err(|e| e.to_string())?;
     let path = o.out.unwrap_or_else(|| "inbetween.bvh".into());
     std::fs::write(&path, out.write()).map_err(|e| format!("{path}: {e}"))?;

@@ -7,9 +7,11 @@
 //!   post-processing, on ONNX models run by tract.
 //! - [`baseline`]: SLERP+LERP and zero-velocity.
 //! - [`post`]: the correction that makes keyframes exact (Sec. 5.2.6).
+//! - [`feet`]: foot locking (contacts pinned by two-bone IK; not in the thesis).
 
 pub mod baseline;
 pub mod dense;
+pub mod feet;
 pub mod pipeline;
 pub mod post;
 

@@ -3,6 +3,7 @@
 //! integrated root path → post-processing → motion.
 
 use super::dense::{dense_channels, dense_input, interp_channels, Norm};
+use super::feet::{lock_feet, FootLock, FootLockStats};
 use super::{post, validate_keys, Keyframe, Motion};
 use crate::error::{Error, Result};
 use crate::rcfk::{RcSkeleton, TableRow};
@@ -52,6 +53,9 @@ pub struct Request {
     pub dna: Option<Vec<Vec<f32>>>,
     /// Apply the post-processing that makes keys exact.
     pub post_process: bool,
+    /// After that post-processing, pin feet in contact ([`super::feet`]);
+    /// `None`: leave the feet as synthesized. Ignored without post-processing.
+    pub foot_lock: Option<FootLock>,
 }
 
 /// Milliseconds spent in each stage.
@@ -87,6 +91,8 @@ pub struct Output {
     pub key_error_raw: KeyError,
     /// Key errors after post-processing (equal to raw when it is off).
     pub key_error: KeyError,
+    /// What foot locking did (all zero when it is off).
+    pub foot_lock: FootLockStats,
 }
 
 impl TweenModels {
@@ -228,8 +234,12 @@ impl TweenModels {
         let mut motion = Motion { root, rotations };
         let t3 = now_ms();
         let key_error_raw = self.key_error(&motion, &req.keys);
+        let mut foot_lock = FootLockStats::default();
         let key_error = if req.post_process {
             post::make_keys_exact(&mut motion, &req.keys);
+            if let Some(cfg) = &req.foot_lock {
+                foot_lock = lock_feet(&mut motion, &self.template, &req.keys, cfg);
+            }
             self.key_error(&motion, &req.keys)
         } else {
             key_error_raw.clone()
@@ -245,6 +255,7 @@ impl TweenModels {
             },
             key_error_raw,
             key_error,
+            foot_lock,
         })
     }
 
