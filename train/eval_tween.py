@@ -46,8 +46,14 @@ from bvh_io import read_hierarchy  # noqa: E402
 from data_pipeline import DATA, TRUE_FPS, VALIDATION, take_of  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-GAPS = [30, 60, 120, 300]
+GAPS = [int(g) for g in os.environ.get("EVAL_GAPS", "30,60,120,300").split(",")]
 METHODS = os.environ.get("EVAL_METHODS", "zerovel,slerp,model").split(",")
+# "model-nolock": the model with post-processing that makes keys exact
+# but leaves the feet as synthesized (CLI --no-foot-lock).
+METHOD_ARGS = {"model-nolock": ["--method", "model", "--no-foot-lock"]}
+# EVAL_SPLIT=train scores training takes instead (for choosing settings
+# without looking at validation takes) and writes docs/inbetween_eval_train.json.
+SPLIT = os.environ.get("EVAL_SPLIT", "val")
 # EVAL_HYBRIDS=1: also score the model's output with one channel group taken
 # from SLERP+LERP's, to show which part of the model costs what.
 HYBRIDS = {f"model, slerp {g}": g for g in ["root position", "root rotation", "joints", "spine", "arms", "hands", "legs"]} \
@@ -222,7 +228,7 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         for cls in sorted(TRUE_FPS):
             for name in sorted(os.listdir(os.path.join(DATA, cls))):
-                if take_of(cls, int(name[:-4])) not in VALIDATION:
+                if (take_of(cls, int(name[:-4])) in VALIDATION) != (SPLIT == "val"):
                     continue
                 clip = os.path.join(tmp, f"{cls}_{name}")
                 n = resample(os.path.join(DATA, cls, name), clip, TRUE_FPS[cls] // 60)
@@ -235,10 +241,10 @@ def main():
                     for m in METHODS:
                         out = os.path.join(tmp, f"out_{m}_{g}.bvh")
                         r = subprocess.run([cli(), "inbetween", "--from-bvh", clip, "--keys", ",".join(map(str, keys)),
-                                            "--method", m, "-o", out], capture_output=True, text=True)
+                                            "-o", out] + METHOD_ARGS.get(m, ["--method", m]), capture_output=True, text=True)
                         if r.returncode != 0:
                             sys.exit(f"{m} on {clip}: {r.stderr}")
-                        if m == "model":
+                        if m.startswith("model"):
                             nums = [float(x) for x in re.findall(r"root ([0-9.]+), joints ([0-9.]+)", r.stderr)[0] + re.findall(r"root ([0-9.]+), joints ([0-9.]+)", r.stderr)[1]]
                             acc[(m, g)]["keyraw"].append(nums[:2])
                             acc[(m, g)]["key"].append(nums[2:])
@@ -270,7 +276,7 @@ def main():
     res["ground_truth_foot_skate"] = float(np.mean(gt_skate))
     res["ground_truth_acceleration"] = float(np.mean(gt_accel))
     os.makedirs(os.path.join(ROOT, "docs"), exist_ok=True)
-    name = "inbetween_hybrids.json" if HYBRIDS else "inbetween_eval.json"
+    name = "inbetween_hybrids.json" if HYBRIDS else "inbetween_eval.json" if SPLIT == "val" else "inbetween_eval_train.json"
     with open(os.path.join(ROOT, "docs", name), "w") as f:
         json.dump(res, f, indent=1)
     print("| metric | method | " + " | ".join(f"gap {g}" for g in GAPS) + " |")
@@ -298,7 +304,7 @@ def main():
             ax[i].set_title(metric + " (lower is better)")
         ax[0].legend()
         fig.tight_layout()
-        if not HYBRIDS:
+        if not HYBRIDS and SPLIT == "val":
             fig.savefig(os.path.join(ROOT, "docs", "inbetween_eval.png"), dpi=110)
     except ImportError:
         print("matplotlib missing: no plot")
