@@ -44,7 +44,7 @@ def main():
     fk = RCFK(data.joints, data.parents, data.offsets, data.channel_joints)
     pck = torch.load(os.path.join(OUT, "path.pt"))
     gck = torch.load(os.path.join(OUT, "gen.pt"))
-    path = PathPredictor(P)
+    path = PathPredictor(P, **pck.get("config", {}))
     path.load_state_dict(pck["model"])
     gen = Generator(P, fk.output_dim, gate_tau=gck["args"].get("gate_tau"))
     gen.load_state_dict(gck["G"])

@@ -136,11 +136,17 @@ def make_batch(data, b, n, rng, fk, gaps="uniform"):
             torch.stack(root), torch.stack(rc), keysets)
 
 
-def train_path(data, val, minutes, log, rng):
-    net = PathPredictor(len(data.joints) * 3)
+def train_path(data, minutes, log, rng, config, decay=False):
+    """Trains the path predictor on ground-truth windows of 256 frames, batch 8,
+    Adam at 1e-3 (cosine-decayed to 1e-5 over the budget when decay)."""
+    net = PathPredictor(len(data.joints) * 3, **config)
     opt = torch.optim.Adam(net.parameters(), lr=1e-3)
     t0, step = time.time(), 0
     while time.time() - t0 < minutes * 60:
+        if decay:
+            f = min(1.0, (time.time() - t0) / (minutes * 60))
+            for group in opt.param_groups:
+                group["lr"] = 1e-5 + (1e-3 - 1e-5) * 0.5 * (1 + math.cos(math.pi * f))
         xs, vs = [], []
         for _ in range(8):
             sl = data.window(256, rng)
@@ -186,6 +192,10 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--data", default=os.path.join(ROOT, "train", "cache", "motion60.npz"))
     ap.add_argument("--path-minutes", type=float, default=6)
+    ap.add_argument("--path-width", type=int, default=128)
+    ap.add_argument("--path-layers", type=int, default=6)
+    ap.add_argument("--path-dilations", default="1,2,3", help="dilations the path predictor's layers cycle through")
+    ap.add_argument("--path-decay", action="store_true", help="cosine-decay the path predictor's learning rate")
     ap.add_argument("--path-ckpt", default=None, help="reuse a trained path predictor (path.pt) instead of training one")
     ap.add_argument("--gen-minutes", type=float, default=50)
     ap.add_argument("--frames", type=int, default=512)
@@ -226,17 +236,21 @@ def main():
     fk = RCFK(data.joints, data.parents, data.offsets, data.channel_joints)
     if args.path_ckpt:
         ck = torch.load(args.path_ckpt)
-        path = PathPredictor(P)
+        path_config = ck.get("config", {})
+        path = PathPredictor(P, **path_config)
         path.load_state_dict(ck["model"])
         path.eval()
         psteps = ck["steps"]
     else:
-        path, psteps = train_path(data, val, args.path_minutes, log, rng)
+        path_config = {"width": args.path_width, "layers": args.path_layers,
+                       "dilations": [int(x) for x in args.path_dilations.split(",")]}
+        path, psteps = train_path(data, args.path_minutes, log, rng, path_config, args.path_decay)
     table = path_table(path, val, np.random.default_rng(1))
     log({"stage": "path_eval_val", "steps": psteps, **table})
     for p in path.parameters():
         p.requires_grad_(False)
-    torch.save({"model": path.state_dict(), "steps": psteps, "table_5_2_val": table}, os.path.join(OUT, "path.pt"))
+    torch.save({"model": path.state_dict(), "steps": psteps, "table_5_2_val": table, "config": path_config},
+               os.path.join(OUT, "path.pt"))
 
     G = Generator(P, fk.output_dim, gate_tau=args.gate_tau)
     D = Discriminator(P)

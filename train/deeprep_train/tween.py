@@ -139,13 +139,16 @@ class Discriminator(nn.Module):
 
 
 class PathPredictor(nn.Module):
-    """Local joint positions [B, P, N] -> root velocity [B, 3, N] (Sec. 5.2.4), fully convolutional."""
+    """Local joint positions [B, P, N] -> root velocity [B, 3, N] (Sec. 5.2.4), fully convolutional.
+    Kernel-5 convolutions whose dilations cycle through `dilations`; the
+    receptive field is 1 + 4 * sum of the layers' dilations, plus 2 for the head."""
 
-    def __init__(self, pose_dim: int, width: int = 128, layers: int = 6):
+    def __init__(self, pose_dim: int, width: int = 128, layers: int = 6, dilations=(1, 2, 3)):
         super().__init__()
         mods, cin = [], pose_dim
         for i in range(layers):
-            mods += [nn.Conv1d(cin, width, 5, padding=2 * (1 + i % 3), dilation=1 + i % 3), nn.PReLU(width)]
+            d = dilations[i % len(dilations)]
+            mods += [nn.Conv1d(cin, width, 5, padding=2 * d, dilation=d), nn.PReLU(width)]
             cin = width
         self.body = nn.Sequential(*mods)
         self.head = nn.Conv1d(cin, 3, 3, padding=1)
