@@ -303,6 +303,8 @@ impl Inbetweener {
     /// at `keyFrames` (sorted, unique, < frames, at most 600 apart).
     /// `dnaChannels` (optional, may be empty): Motion DNA poses as channel
     /// rows; their root rotation is removed. Empty: the keys serve as DNA.
+    /// `postProcess`: make the keys exact, then lock feet in contact with
+    /// the floor (`motion::feet`); false returns the networks' raw motion.
     pub fn synthesize(
         &self,
         key_frames: &[u32],

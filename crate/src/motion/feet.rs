@@ -7,7 +7,8 @@
 //! global rotation. The pin blends in and out with smoothstep weights over
 //! [`FootLock::blend`] frames. Keyframes stay exact: a contact that holds a
 //! key is pinned where that key puts the ankle, and the weight falls to 0
-//! at any other key the pin would move.
+//! at any other key the pin would move (keys with rotations, and partial
+//! keys that give the ankle).
 //!
 //! Legs are found by name: a joint whose name contains `Foot` (and not
 //! `Nub`), its parent (shin) and grandparent (thigh). A skeleton without
@@ -198,13 +199,16 @@ pub fn lock_feet(
         .iter()
         .map(|j| j.offset.map(|v| v as f64))
         .collect();
-    let key_frames: Vec<usize> = keys
-        .iter()
-        .filter(|k| k.rotations.is_some() && k.frame < frames)
-        .map(|k| k.frame)
-        .collect();
     for chain in legs {
         let ankle = chain[2];
+        // Keys that fix this ankle: whole poses, and partial keys that give
+        // any of its coordinates.
+        let key_frames: Vec<usize> = keys
+            .iter()
+            .filter(|k| k.frame < frames)
+            .filter(|k| k.rotations.is_some() || k.mask.iter().skip(3 * ankle).take(3).any(|m| *m))
+            .map(|k| k.frame)
+            .collect();
         let track: Vec<Vec3<f64>> = (0..frames)
             .map(|f| global(m, f, &parents, &offsets).1[ankle])
             .collect();
