@@ -58,6 +58,8 @@ SPLIT = os.environ.get("EVAL_SPLIT", "val")
 # from SLERP+LERP's, to show which part of the model costs what.
 HYBRIDS = {f"model, slerp {g}": g for g in ["root position", "root rotation", "joints", "spine", "arms", "hands", "legs"]} \
     if os.environ.get("EVAL_HYBRIDS") == "1" else {}
+# The hybrids start from the first model method listed (model or model-nolock).
+HYBRID_BASE = next((m for m in METHODS if m.startswith("model")), None)
 FEET = ["lFoot", "rFoot", "lFoot_Nub", "rFoot_Nub"]
 
 
@@ -220,8 +222,8 @@ def main():
             chunks.append(w.reshape(300, -1))
     flat = np.concatenate(chunks)
     mu, sd = flat.mean(0), flat.std(0) + 1e-6
-    if HYBRIDS and not {"model", "slerp"} <= set(METHODS):
-        sys.exit("EVAL_HYBRIDS needs model and slerp in EVAL_METHODS")
+    if HYBRIDS and not (HYBRID_BASE and "slerp" in METHODS):
+        sys.exit("EVAL_HYBRIDS needs slerp and model (or model-nolock) in EVAL_METHODS")
     acc = {(m, g): {"l2p": [], "l2q": [], "gt": [], "pred": [], "skate": [], "accel": [], "keyraw": [], "key": []}
            for m in METHODS + list(HYBRIDS) for g in GAPS}
     gt_skate, gt_accel = [], []
@@ -252,7 +254,7 @@ def main():
                     gt_accel.extend(accel(gpos[a:b + 1]) for a, b in zip(keys[:-1], keys[1:]))
                     for h, group in HYBRIDS.items():
                         cols = hybrid_columns(gt, group)
-                        mb = read_bvh(os.path.join(tmp, f"out_model_{g}.bvh"))
+                        mb = read_bvh(os.path.join(tmp, f"out_{HYBRID_BASE}_{g}.bvh"))
                         sb = read_bvh(os.path.join(tmp, f"out_slerp_{g}.bvh"))
                         data = mb[4].copy()
                         data[:, cols] = sb[4][:, cols]
