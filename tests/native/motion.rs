@@ -388,19 +388,8 @@ fn ankle(m: &Motion, f: usize, b: &Bvh) -> ([f64; 3], Mat3<f64>) {
         .iter()
         .map(|j| j.offset.map(|v| v as f64))
         .collect();
-    let p = m.local_positions(f, &parents, &offsets)[3];
-    let mut r = m.rotations[f][0];
-    for j in 1..4 {
-        r = deeprep::rotation::mul(&r, &m.rotations[f][j]);
-    }
-    (
-        [
-            p[0] + m.root[f][0],
-            p[1] + m.root[f][1],
-            p[2] + m.root[f][2],
-        ],
-        r,
-    )
+    let (rot, pos) = m.global_pose(f, &parents, &offsets);
+    (pos[3], rot[3])
 }
 
 #[test]

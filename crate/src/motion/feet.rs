@@ -73,31 +73,6 @@ fn smoothstep(s: f64) -> f64 {
     s * s * (3.0 - 2.0 * s)
 }
 
-/// Global rotations and positions of one frame.
-fn global(
-    m: &Motion,
-    f: usize,
-    parents: &[Option<usize>],
-    offsets: &[Vec3<f64>],
-) -> (Vec<Mat3<f64>>, Vec<Vec3<f64>>) {
-    let n = parents.len();
-    let mut rot = vec![identity::<f64>(); n];
-    let mut pos = vec![[0.0; 3]; n];
-    for j in 0..n {
-        match parents[j] {
-            None => {
-                rot[j] = m.rotations[f][j];
-                pos[j] = m.root[f];
-            }
-            Some(p) => {
-                pos[j] = add(&pos[p], &mul_vec(&rot[p], &offsets[j]));
-                rot[j] = mul(&rot[p], &m.rotations[f][j]);
-            }
-        }
-    }
-    (rot, pos)
-}
-
 /// The rotation taking direction `u` to direction `v` (shortest arc).
 fn rotation_between(u: &Vec3<f64>, v: &Vec3<f64>) -> Mat3<f64> {
     let (nu, nv) = (norm(u), norm(v));
@@ -126,7 +101,7 @@ fn solve_leg(
     target: &Vec3<f64>,
 ) {
     let [hip, knee, ankle] = chain;
-    let (rot, pos) = global(m, f, parents, offsets);
+    let (rot, pos) = m.global_pose(f, parents, offsets);
     let (h, k, a) = (pos[hip], pos[knee], pos[ankle]);
     let la = norm(&sub(&k, &h));
     let lb = norm(&sub(&a, &k));
@@ -210,7 +185,7 @@ pub fn lock_feet(
             .map(|k| k.frame)
             .collect();
         let track: Vec<Vec3<f64>> = (0..frames)
-            .map(|f| global(m, f, &parents, &offsets).1[ankle])
+            .map(|f| m.global_pose(f, &parents, &offsets).1[ankle])
             .collect();
         // The ankle's floor: a low percentile of its height.
         let mut hs: Vec<f64> = track.iter().map(|p| p[1]).collect();

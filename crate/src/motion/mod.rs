@@ -147,6 +147,33 @@ impl Motion {
         Ok(out)
     }
 
+    /// Global rotations and positions of one frame on a skeleton given by
+    /// parents and offsets (the root at its position).
+    pub fn global_pose(
+        &self,
+        f: usize,
+        parents: &[Option<usize>],
+        offsets: &[[f64; 3]],
+    ) -> (Vec<Mat3<f64>>, Vec<[f64; 3]>) {
+        let n = parents.len();
+        let mut rot = vec![crate::rotation::identity::<f64>(); n];
+        let mut pos = vec![[0.0; 3]; n];
+        for j in 0..n {
+            match parents[j] {
+                None => {
+                    rot[j] = self.rotations[f][j];
+                    pos[j] = self.root[f];
+                }
+                Some(p) => {
+                    let t = mul_vec(&rot[p], &offsets[j]);
+                    pos[j] = [pos[p][0] + t[0], pos[p][1] + t[1], pos[p][2] + t[2]];
+                    rot[j] = crate::rotation::mul(&rot[p], &self.rotations[f][j]);
+                }
+            }
+        }
+        (rot, pos)
+    }
+
     /// Local joint positions (root at 0, world orientation) of one frame on
     /// a skeleton given by parents and offsets.
     pub fn local_positions(
@@ -155,20 +182,11 @@ impl Motion {
         parents: &[Option<usize>],
         offsets: &[[f64; 3]],
     ) -> Vec<[f64; 3]> {
-        let n = parents.len();
-        let mut rot = vec![crate::rotation::identity::<f64>(); n];
-        let mut pos = vec![[0.0; 3]; n];
-        for j in 0..n {
-            match parents[j] {
-                None => rot[j] = self.rotations[f][j],
-                Some(p) => {
-                    let t = mul_vec(&rot[p], &offsets[j]);
-                    pos[j] = [pos[p][0] + t[0], pos[p][1] + t[1], pos[p][2] + t[2]];
-                    rot[j] = crate::rotation::mul(&rot[p], &self.rotations[f][j]);
-                }
-            }
-        }
-        pos
+        let r = self.root[f];
+        let (_, pos) = self.global_pose(f, parents, offsets);
+        pos.into_iter()
+            .map(|p| [p[0] - r[0], p[1] - r[1], p[2] - r[2]])
+            .collect()
     }
 }
 
