@@ -14,6 +14,7 @@
 //! `Nub`), its parent (shin) and grandparent (thigh). A skeleton without
 //! such chains is left as it is.
 
+use super::post::smoothstep;
 use super::{Keyframe, Motion};
 use crate::rotation::axis_angle::axis_angle_to_matrix;
 use crate::rotation::{cross, dot, identity, mul, mul_vec, norm, transpose, Mat3, Vec3};
@@ -66,11 +67,6 @@ fn sub(a: &Vec3<f64>, b: &Vec3<f64>) -> Vec3<f64> {
 
 fn add(a: &Vec3<f64>, b: &Vec3<f64>) -> Vec3<f64> {
     [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-fn smoothstep(s: f64) -> f64 {
-    let s = s.clamp(0.0, 1.0);
-    s * s * (3.0 - 2.0 * s)
 }
 
 /// The rotation taking direction `u` to direction `v` (shortest arc).
@@ -174,7 +170,16 @@ pub fn lock_feet(
         .iter()
         .map(|j| j.offset.map(|v| v as f64))
         .collect();
-    for chain in legs {
+    // Ankle tracks of every leg, from one FK pass (the legs do not move each
+    // other's ankles, so locking one leaves the others' tracks valid).
+    let mut tracks: Vec<Vec<Vec3<f64>>> = vec![Vec::with_capacity(frames); legs.len()];
+    for f in 0..frames {
+        let (_, pos) = m.global_pose(f, &parents, &offsets);
+        for (track, chain) in tracks.iter_mut().zip(&legs) {
+            track.push(pos[chain[2]]);
+        }
+    }
+    for (chain, track) in legs.into_iter().zip(tracks) {
         let ankle = chain[2];
         // Keys that fix this ankle: whole poses, and partial keys that give
         // any of its coordinates.
@@ -183,9 +188,6 @@ pub fn lock_feet(
             .filter(|k| k.frame < frames)
             .filter(|k| k.rotations.is_some() || k.mask.iter().skip(3 * ankle).take(3).any(|m| *m))
             .map(|k| k.frame)
-            .collect();
-        let track: Vec<Vec3<f64>> = (0..frames)
-            .map(|f| m.global_pose(f, &parents, &offsets).1[ankle])
             .collect();
         // The ankle's floor: a low percentile of its height.
         let mut hs: Vec<f64> = track.iter().map(|p| p[1]).collect();
@@ -228,6 +230,12 @@ pub fn lock_feet(
                         .unwrap_or(mid)
                 });
             let (px, pz) = (track[at][0], track[at][2]);
+            // Keys the pin would move stay as they are.
+            let moved: Vec<usize> = key_frames
+                .iter()
+                .copied()
+                .filter(|&k| (track[k][0] - px).hypot(track[k][2] - pz) > 1e-6)
+                .collect();
             let lo = s.saturating_sub(cfg.blend);
             let hi = (e + cfg.blend).min(frames);
             for (t, slot) in pin.iter_mut().enumerate().take(hi).skip(lo) {
@@ -238,12 +246,8 @@ pub fn lock_feet(
                 } else {
                     1.0
                 };
-                // Keys the pin would move stay as they are.
-                for &k in &key_frames {
-                    let moved = (track[k][0] - px).hypot(track[k][2] - pz) > 1e-6;
-                    if moved {
-                        w *= smoothstep(k.abs_diff(t) as f64 / (cfg.blend + 1) as f64);
-                    }
+                for &k in &moved {
+                    w *= smoothstep(k.abs_diff(t) as f64 / (cfg.blend + 1) as f64);
                 }
                 if w > slot.0 {
                     *slot = (w, px, pz);

@@ -14,7 +14,9 @@ use super::{Keyframe, Motion};
 use crate::rotation::quat::{matrix_to_quat, quat_to_matrix_unit, slerp};
 use crate::rotation::{mul, transpose};
 
-fn smoothstep(s: f64) -> f64 {
+/// Smoothstep on [0, 1] (clamped outside): 0 and 1 with zero slope at the ends.
+pub(super) fn smoothstep(s: f64) -> f64 {
+    let s = s.clamp(0.0, 1.0);
     s * s * (3.0 - 2.0 * s)
 }
 
