@@ -252,10 +252,11 @@ def main():
                             acc[(m, g)]["key"].append(nums[2:])
                         score(acc[(m, g)], global_fk(read_bvh(out)), (gpos, grot), keys, feet, floor, mu, sd)
                     gt_accel.extend(accel(gpos[a:b + 1]) for a, b in zip(keys[:-1], keys[1:]))
-                    for h, group in HYBRIDS.items():
-                        cols = hybrid_columns(gt, group)
+                    if HYBRIDS:
                         mb = read_bvh(os.path.join(tmp, f"out_{HYBRID_BASE}_{g}.bvh"))
                         sb = read_bvh(os.path.join(tmp, f"out_slerp_{g}.bvh"))
+                    for h, group in HYBRIDS.items():
+                        cols = hybrid_columns(gt, group)
                         data = mb[4].copy()
                         data[:, cols] = sb[4][:, cols]
                         score(acc[(h, g)], global_fk(mb[:4] + (data,)), (gpos, grot), keys, feet, floor, mu, sd)
@@ -278,8 +279,8 @@ def main():
     res["ground_truth_foot_skate"] = float(np.mean(gt_skate))
     res["ground_truth_acceleration"] = float(np.mean(gt_accel))
     os.makedirs(os.path.join(ROOT, "docs"), exist_ok=True)
-    name = "inbetween_hybrids.json" if HYBRIDS else "inbetween_eval.json" if SPLIT == "val" else "inbetween_eval_train.json"
-    with open(os.path.join(ROOT, "docs", name), "w") as f:
+    out_json = "inbetween_hybrids.json" if HYBRIDS else "inbetween_eval.json" if SPLIT == "val" else "inbetween_eval_train.json"
+    with open(os.path.join(ROOT, "docs", out_json), "w") as f:
         json.dump(res, f, indent=1)
     print("| metric | method | " + " | ".join(f"gap {g}" for g in GAPS) + " |")
     print("|---|---|" + "---|" * len(GAPS))
