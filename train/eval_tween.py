@@ -30,7 +30,10 @@ Markdown table.  Run: train/.venv/bin/python train/eval_tween.py
 With EVAL_HYBRIDS=1 it also scores the model's output with one channel group
 (root position, root rotation, all joints, spine, arms, hands or legs) replaced by
 SLERP+LERP's, and writes docs/inbetween_hybrids.json instead: which part of
-the model gains or loses against interpolation.
+the model gains or loses against interpolation. Two more diagnostics write
+the same file: EVAL_BLEND=w1,w2,... (the model's local pose blended towards
+SLERP+LERP's by each weight) and EVAL_CUBIC=1 (Catmull-Rom splines through
+the keys, and the model with the spline's root position).
 """
 import json
 import os
@@ -58,6 +61,14 @@ SPLIT = os.environ.get("EVAL_SPLIT", "val")
 # from SLERP+LERP's, to show which part of the model costs what.
 HYBRIDS = {f"model, slerp {g}": g for g in ["root position", "root rotation", "joints", "spine", "arms", "hands", "legs"]} \
     if os.environ.get("EVAL_HYBRIDS") == "1" else {}
+# EVAL_BLEND=w1,w2,...: also score the model's output blended towards
+# SLERP+LERP's by weight w (local joint rotations by quaternion slerp, the root
+# position by lerp; 0 = model, 1 = SLERP+LERP), written with the hybrids.
+BLENDS = {f"model, blend {w}": float(w) for w in os.environ.get("EVAL_BLEND", "").split(",") if w}
+HYBRIDS.update(BLENDS)
+if os.environ.get("EVAL_CUBIC") == "1":
+    HYBRIDS["cubic"] = None
+    HYBRIDS["model, cubic root position"] = None
 # The hybrids start from the first model method listed (model or model-nolock).
 HYBRID_BASE = next((m for m in METHODS if m.startswith("model")), None)
 FEET = ["lFoot", "rFoot", "lFoot_Nub", "rFoot_Nub"]
@@ -205,6 +216,89 @@ def hybrid_columns(bvh, group):
     return cols
 
 
+def local_fk(bvh):
+    """Root positions [F, 3] and local rotation matrices [F, J, 3, 3]."""
+    names, parents, offsets, chans, data = bvh
+    F, J = len(data), len(names)
+    rot = np.zeros((F, J, 3, 3))
+    root = np.broadcast_to(offsets[0], (F, 3)).copy()
+    col = 0
+    for j in range(J):
+        r = np.broadcast_to(np.eye(3), (F, 3, 3)).copy()
+        for c in chans[j]:
+            v = data[:, col]
+            col += 1
+            if c.endswith("rotation"):
+                r = r @ axis_rot(c[0], np.radians(v))
+            elif j == 0:
+                root[:, "XYZ".index(c[0])] += v
+        rot[:, j] = r
+    return root, rot
+
+
+def quat_to_mat(q):
+    w, x, y, z = np.moveaxis(q, -1, 0)
+    return np.stack([
+        np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
+        np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
+        np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1)], -2)
+
+
+def fk_from_local(bvh, root, loc):
+    """Global positions and rotations from root positions [F, 3] and local
+    rotation matrices [F, J, 3, 3] on bvh's skeleton."""
+    _, parents, offsets, _, _ = bvh
+    F, J = loc.shape[:2]
+    rot, pos = np.zeros_like(loc), np.zeros((F, J, 3))
+    for j in range(J):
+        p = parents[j]
+        if p < 0:
+            rot[:, j], pos[:, j] = loc[:, j], root
+        else:
+            pos[:, j] = pos[:, p] + rot[:, p] @ offsets[j]
+            rot[:, j] = rot[:, p] @ loc[:, j]
+    return pos, rot
+
+
+def blend_fk(bvh, a, b, w):
+    """Global positions and rotations of the blend of two clips' local poses
+    (quaternion nlerp per joint, lerp of the root position) by weight w."""
+    ra, qa = local_fk(a)
+    rb, qb = local_fk(b)
+    qa, qb = mat_to_quat(qa), mat_to_quat(qb)
+    qb = qb * np.sign((qa * qb).sum(-1, keepdims=True) + 1e-12)
+    q = (1 - w) * qa + w * qb
+    loc = quat_to_mat(q / np.linalg.norm(q, axis=-1, keepdims=True))
+    root = (1 - w) * ra + w * rb
+    return fk_from_local(bvh, root, loc)
+
+
+def cubic_fk(bvh, keys):
+    """Diagnostic baseline: uniform Catmull-Rom splines through the keys'
+    root positions and (sign-aligned, renormalized) local joint quaternions."""
+    root, loc = local_fk(bvh)
+    q = mat_to_quat(loc)
+    for i in range(1, len(keys)):
+        q[keys[i]] *= np.sign((q[keys[i]] * q[keys[i - 1]]).sum(-1, keepdims=True) + 1e-12)
+    root_o, q_o = root.copy(), q.copy()
+    for i in range(len(keys) - 1):
+        a, b = keys[i], keys[i + 1]
+        pa, pb = keys[max(i - 1, 0)], keys[min(i + 2, len(keys) - 1)]
+        t = (np.arange(a + 1, b) - a) / (b - a)
+        for arr, out in ((root, root_o), (q, q_o)):
+            p0, p1, p2, p3 = arr[pa], arr[a], arr[b], arr[pb]
+            if pa == a:
+                p0 = 2 * p1 - p2
+            if pb == b:
+                p3 = 2 * p2 - p1
+            sh = (-1,) + (1,) * (arr.ndim - 1)
+            tt = t.reshape(sh)
+            out[a + 1:b] = 0.5 * ((2 * p1) + (-p0 + p2) * tt + (2 * p0 - 5 * p1 + 4 * p2 - p3) * tt ** 2
+                                  + (-p0 + 3 * p1 - 3 * p2 + p3) * tt ** 3)
+    loc = quat_to_mat(q_o / np.linalg.norm(q_o, axis=-1, keepdims=True))
+    return fk_from_local(bvh, root_o, loc)
+
+
 def main():
     if not os.path.isdir(DATA):
         sys.exit(f"SKIP: {DATA} is absent")
@@ -255,7 +349,18 @@ def main():
                     if HYBRIDS:
                         mb = read_bvh(os.path.join(tmp, f"out_{HYBRID_BASE}_{g}.bvh"))
                         sb = read_bvh(os.path.join(tmp, f"out_slerp_{g}.bvh"))
+                    if "cubic" in HYBRIDS:
+                        score(acc[("cubic", g)], cubic_fk(gt, keys), (gpos, grot), keys, feet, floor, mu, sd)
+                        # the model with the spline's root position
+                        cb = cubic_fk(gt, keys)
+                        shift = cb[0][:, :1] - global_fk(mb)[0][:, :1]
+                        mp, mr = global_fk(mb)
+                        score(acc[("model, cubic root position", g)], (mp + shift, mr), (gpos, grot), keys, feet, floor, mu, sd)
+                    for h, w in BLENDS.items():
+                        score(acc[(h, g)], blend_fk(gt, mb, sb, w), (gpos, grot), keys, feet, floor, mu, sd)
                     for h, group in HYBRIDS.items():
+                        if h in BLENDS or h is None or HYBRIDS[h] is None:
+                            continue
                         cols = hybrid_columns(gt, group)
                         data = mb[4].copy()
                         data[:, cols] = sb[4][:, cols]

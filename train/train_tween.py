@@ -8,6 +8,7 @@ log of losses to train/cache/tween/log.jsonl.
 See train/README.md for the deviations from the thesis.
 """
 import argparse
+import copy
 import json
 import math
 import os
@@ -25,7 +26,8 @@ from deeprep_train.tween import (SCALE, GAN_TARGET, Discriminator, Generator, Pa
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OUT = os.environ.get("TWEEN_OUT", os.path.join(ROOT, "train", "cache", "tween"))
-W = {"recon": 100.0, "vel": 100.0, "acc": 0.0, "key": 300.0, "root": 50.0, "gan": 1.0, "br": 5.0, "dna1": 50.0, "dna2": 50.0}
+W = {"recon": 100.0, "vel": 100.0, "acc": 0.0, "spec": 0.0, "key": 300.0, "root": 50.0, "gan": 1.0, "br": 5.0,
+     "dna1": 50.0, "dna2": 50.0}
 # DNA weights can be overridden (--dna-weight): at this training budget the
 # thesis' 50 lets the generator flash DNA poses in single frames (run 3).
 
@@ -71,6 +73,28 @@ def rep_frames(rc, k):
         if len(picked) == k:
             break
     return sorted(picked)
+
+
+def spectral_loss(gen, gt, keysets, min_gap=30):
+    """NPSS-style loss (not in the thesis; run 15): LaFAN1's power spectrum
+    (real part of the FFT, squared) of every coordinate over each key
+    interval of at least min_gap frames, as a cumulative distribution over
+    frequency; the earth mover's distance between generated and captured
+    motion, weighted by the captured power. gen, gt: [B, N, F]."""
+    out = []
+    for i, keys in enumerate(keysets):
+        for a, z in zip(keys[:-1], keys[1:]):
+            if z - a - 1 < min_gap:
+                continue
+            pg = torch.fft.fft(gen[i, a + 1:z], dim=0).real ** 2
+            pt = torch.fft.fft(gt[i, a + 1:z], dim=0).real ** 2
+            tg, tt = pg.sum(0), pt.sum(0)
+            cg = torch.cumsum(pg / tg.clamp(min=1e-8), 0)
+            ct = torch.cumsum(pt / tt.clamp(min=1e-8), 0)
+            w = tt / tt.sum()
+            # per frame, so gaps of every length weigh alike
+            out.append(((cg - ct).abs().sum(0) * w).sum() / (z - a - 1))
+    return torch.stack(out).mean() if out else torch.zeros(())
 
 
 def sample_keys(n, rng, gaps="uniform"):
@@ -212,6 +236,13 @@ def main():
                     help="key interval distribution; loguniform trains short gaps as often as long ones (runs 11-12)")
     ap.add_argument("--gate-tau", type=float, default=None,
                     help="gate the generator's correction by the distance to the nearest key, tau in seconds (run 13)")
+    ap.add_argument("--spec-weight", type=float, default=0.0,
+                    help="weight of the NPSS-style spectral loss on key intervals (not in the thesis; run 15)")
+    ap.add_argument("--skips", type=int, default=0,
+                    help="U-Net skips into the decoder's last levels (not in the thesis; run 16)")
+    ap.add_argument("--ema", type=float, default=None,
+                    help="keep an exponential moving average of the generator's weights with this decay "
+                         "(e.g. 0.999; not in the thesis; run 18) and export it")
     ap.add_argument("--resume", default=None, help="continue from a gen.pt checkpoint (generator and discriminator)")
     args = ap.parse_args()
     torch.set_num_threads(args.threads)
@@ -219,6 +250,7 @@ def main():
     if args.dna_weight is not None:
         W["dna1"] = W["dna2"] = args.dna_weight
     W["acc"] = args.acc_weight
+    W["spec"] = args.spec_weight
     if args.gan_weight is not None:
         W["gan"] = args.gan_weight
     rng = np.random.default_rng(args.seed)
@@ -252,16 +284,24 @@ def main():
     torch.save({"model": path.state_dict(), "steps": psteps, "table_5_2_val": table, "config": path_config},
                os.path.join(OUT, "path.pt"))
 
-    G = Generator(P, fk.output_dim, gate_tau=args.gate_tau)
+    G = Generator(P, fk.output_dim, gate_tau=args.gate_tau, skips=args.skips)
     D = Discriminator(P)
     step0 = 0
     if args.resume:
         ck = torch.load(args.resume)
         missing, unexpected = G.load_state_dict(ck["G"], strict=False)
-        if unexpected or any(k != "log_tau" for k in missing):
+        if unexpected or any(k != "log_tau" and not k.startswith("skip.") for k in missing):
             sys.exit(f"--resume {args.resume}: missing {missing}, unexpected {unexpected}")
         D.load_state_dict(ck["D"])
         step0 = ck["steps"]
+    ema = copy.deepcopy(G).requires_grad_(False) if args.ema else None
+
+    def save():
+        ck = {"G": G.state_dict(), "D": D.state_dict(), "steps": step, "args": vars(args), "weights": W}
+        if ema is not None:
+            ck["G_ema"] = ema.state_dict()
+        torch.save(ck, os.path.join(OUT, "gen.pt"))
+
     og = torch.optim.Adam(G.parameters(), lr=args.lr_g, betas=(0.5, 0.99))
     od = torch.optim.Adam(D.parameters(), lr=args.lr_d, betas=(0.5, 0.99))
     n, b = args.frames, args.batch
@@ -280,6 +320,8 @@ def main():
         acc_g = gen_s[:, 2:] - 2 * gen_s[:, 1:-1] + gen_s[:, :-2]
         acc_t = gt_s[:, 2:] - 2 * gt_s[:, 1:-1] + gt_s[:, :-2]
         losses["acc"] = ((acc_g - acc_t) ** 2).sum(-1).mean() * 400.0
+        losses["spec"] = spectral_loss(gen_s.reshape(b, n, P), gt_s.reshape(b, n, P), keysets) \
+            if W["spec"] > 0 else torch.zeros(())
         kmask = mask.reshape(b, n, J, 3).clone()
         kmask[:, :, 0, :] = False
         losses["key"] = (((gen_s - gt_s) ** 2) * kmask).sum() / kmask.sum().clamp(min=1)
@@ -316,6 +358,10 @@ def main():
         total.backward()
         torch.nn.utils.clip_grad_norm_(G.parameters(), 10.0)
         og.step()
+        if ema is not None:
+            with torch.no_grad():
+                for pe, p in zip(ema.parameters(), G.parameters()):
+                    pe.mul_(args.ema).add_(p, alpha=1 - args.ema)
         # discriminator: LSGAN, real -> 1, fake -> -1 (eq. 5.7)
         with torch.no_grad():
             real = torch.stack([data.local[data.window(n, rng)] for _ in range(b)]) / SCALE
@@ -328,8 +374,8 @@ def main():
             log({"stage": "gen", "step": step, "sec": round(time.time() - t0), "total": total.item(), "D": ld.item(),
                  **{k: round(v.item(), 6) for k, v in losses.items()}})
         if step % 500 == 0:
-            torch.save({"G": G.state_dict(), "D": D.state_dict(), "steps": step, "args": vars(args), "weights": W}, os.path.join(OUT, "gen.pt"))
-    torch.save({"G": G.state_dict(), "D": D.state_dict(), "steps": step, "args": vars(args), "weights": W}, os.path.join(OUT, "gen.pt"))
+            save()
+    save()
     log({"stage": "done", "gen_steps": step, "path_steps": psteps})
 
 

@@ -77,7 +77,7 @@ class Generator(nn.Module):
     decoder: 6 transposed convs with modified residual convs, then an output conv."""
 
     def __init__(self, pose_dim: int, out_dim: int, widths=(96, 128, 160, 192, 224, 256), dna_dim: int = 64,
-                 gate_tau: float | None = None):
+                 gate_tau: float | None = None, skips: int = 0):
         super().__init__()
         w0 = widths[0]
         # Key gate (not in the thesis, run 13): the correction is scaled by
@@ -104,15 +104,39 @@ class Generator(nn.Module):
             dec += [up(cin, w), ModResConv(w, sig_d[i])]
             cin = w
         self.dec = nn.Sequential(*dec)
+        # U-Net skips (not in the thesis, run 16): the input conv's and the
+        # first encoder blocks' features are added, through zero-initialized
+        # 1x1 convs, to the decoder's last `skips` levels (same resolution,
+        # before their residual convs), so corrections can be placed at
+        # 1, 2, 4... frame precision. Zero init: a generator without skips
+        # continues unchanged.
+        enc_ch = [w0] + list(widths[:-1])
+        self.skip = nn.ModuleList()
+        for i in range(skips):
+            c = nn.Conv1d(enc_ch[i], outs[len(outs) - 1 - i], 1)
+            nn.init.zeros_(c.weight)
+            nn.init.zeros_(c.bias)
+            self.skip.append(c)
         self.out = nn.Conv1d(cin, out_dim, 3, padding=1)
         nn.init.zeros_(self.out.bias)
         self.out.weight.data *= 0.1
 
     def forward(self, dense, dense_rot, dna_frames):
-        z = self.enc(self.inp(torch.cat([dense, dense_rot], dim=1)))
+        z = self.inp(torch.cat([dense, dense_rot], dim=1))
+        feats = [z]
+        for i in range(0, len(self.enc), 2):
+            z = self.enc[i + 1](self.enc[i](z))
+            feats.append(z)
         w = self.dna(dna_frames)
         z = torch.cat([z, w.unsqueeze(-1).expand(-1, -1, z.shape[-1])], dim=1)
-        corr = self.out(self.dec(z))
+        levels = len(self.dec) // 2
+        for i in range(levels):
+            z = self.dec[2 * i](z)
+            k = levels - 1 - i  # this level's resolution is the input conv's / 2^k
+            if k < len(self.skip):
+                z = z + self.skip[k](feats[k])
+            z = self.dec[2 * i + 1](z)
+        corr = self.out(z)
         if self.log_tau is not None:
             d = dense_rot[:, self.out_dim: self.out_dim + 1]
             corr = corr * (1 - torch.exp(-(d / torch.exp(self.log_tau)) ** 2))

@@ -1,0 +1,68 @@
+"""Scores a run's generator snapshots (gen_<steps>.pt, kept while it trains)
+on the *training* takes, so a checkpoint is chosen without looking at the
+validation takes that the README reports.
+
+  train/.venv/bin/python train/pick_checkpoint.py train/cache/run16 [STEPS ...]
+
+For each snapshot: export it (train/export_tween.py into models/onnx/), then
+train/eval_tween.py with EVAL_SPLIT=train on SLERP+LERP and the model
+without foot locking. Prints and writes RUN/pick.json: per snapshot L2P and
+NPSS per gap, the cells of the issue's target it meets (NPSS at every gap,
+L2P at 30 and 60 frames) and the mean ratio to SLERP+LERP over those cells.
+models/onnx/ and docs/ are left changed: `git checkout models/onnx docs`
+restores the bundled model, or re-export the chosen one.
+"""
+import glob
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+PY = sys.executable
+GAPS = [30, 60, 120, 300]
+
+
+def score(run, ckpt):
+    with tempfile.TemporaryDirectory() as tmp:
+        for f in ("path.pt", "log.jsonl"):
+            shutil.copy(os.path.join(run, f), tmp)
+        shutil.copy(ckpt, os.path.join(tmp, "gen.pt"))
+        subprocess.run([PY, "train/export_tween.py"], cwd=ROOT, env=os.environ | {"TWEEN_OUT": tmp},
+                       check=True, capture_output=True)
+    subprocess.run([PY, "train/eval_tween.py"], cwd=ROOT, check=True, capture_output=True,
+                   env=os.environ | {"EVAL_SPLIT": "train", "EVAL_METHODS": "slerp,model-nolock"})
+    res = json.load(open(os.path.join(ROOT, "docs", "inbetween_eval_train.json")))
+    cells, ratios = 0, []
+    for metric, gaps in (("NPSS", GAPS), ("L2P", [30, 60])):
+        for g in gaps:
+            m, s = res[f"model-nolock@{g}"][metric], res[f"slerp@{g}"][metric]
+            cells += m < s
+            ratios.append(m / s)
+    return {"L2P": [res[f"model-nolock@{g}"]["L2P"] for g in GAPS],
+            "NPSS": [res[f"model-nolock@{g}"]["NPSS"] for g in GAPS],
+            "cells_met": int(cells), "mean_ratio_to_slerp": sum(ratios) / len(ratios)}
+
+
+def main():
+    run = sys.argv[1]
+    want = set(sys.argv[2:])
+    snaps = sorted(glob.glob(os.path.join(run, "gen_*.pt")), key=lambda p: int(re.findall(r"\d+", os.path.basename(p))[0]))
+    out_path = os.path.join(run, "pick.json")
+    out = json.load(open(out_path)) if os.path.exists(out_path) else {}
+    for p in snaps:
+        steps = re.findall(r"\d+", os.path.basename(p))[0]
+        if (want and steps not in want) or steps in out:
+            continue
+        out[steps] = score(run, p)
+        print(steps, json.dumps(out[steps]), flush=True)
+        json.dump(out, open(out_path, "w"), indent=1)
+    best = max(out, key=lambda k: (out[k]["cells_met"], -out[k]["mean_ratio_to_slerp"]))
+    print("best on training takes:", best, out[best])
+
+
+if __name__ == "__main__":
+    main()
