@@ -66,7 +66,7 @@ Ground-truth foot skating by the same measure: {ev['ground_truth_foot_skate']:.3
 NPSS sums over frequencies, so it grows with the window: compare methods
 within a gap. Verdict against the target (beat SLERP+LERP on NPSS at every
 gap and on L2P at 30 and 60): {"met" if goal else "not met"}. The model was
-trained for about 4 hours in all (runs 4-7, 9 and 11, each continuing the last) on one or two CPU threads (the thesis: 560k iterations on
+trained for about 5 hours in all (runs 4-7, 9, 11 and 16, each continuing the last; run 16 added U-Net skips to the decoder and was picked at 45,500 steps on training takes by `train/pick_checkpoint.py`) on one or two CPU threads (the thesis: 560k iterations on
 a GPU). RC-FK with Table D.1's ranges cannot express the data's wrist twist
 and finger rest poses (1.24 units per joint on average since the elbow hinge
 fit of `train/fit_frames.py`; 8.2 before), a floor that interpolating the
