@@ -65,10 +65,9 @@ HYBRIDS = {f"model, slerp {g}": g for g in ["root position", "root rotation", "j
 # SLERP+LERP's by weight w (local joint rotations by quaternion slerp, the root
 # position by lerp; 0 = model, 1 = SLERP+LERP), written with the hybrids.
 BLENDS = {f"model, blend {w}": float(w) for w in os.environ.get("EVAL_BLEND", "").split(",") if w}
-HYBRIDS.update(BLENDS)
-if os.environ.get("EVAL_CUBIC") == "1":
-    HYBRIDS["cubic"] = None
-    HYBRIDS["model, cubic root position"] = None
+CUBIC = ["cubic", "model, cubic root position"] if os.environ.get("EVAL_CUBIC") == "1" else []
+# every diagnostic row, in print order
+DIAGNOSTICS = list(HYBRIDS) + list(BLENDS) + CUBIC
 # The hybrids start from the first model method listed (model or model-nolock).
 HYBRID_BASE = next((m for m in METHODS if m.startswith("model")), None)
 FEET = ["lFoot", "rFoot", "lFoot_Nub", "rFoot_Nub"]
@@ -114,30 +113,46 @@ def axis_rot(axis, a):
     return np.stack([np.stack(r, -1) for r in m], -2)
 
 
-def global_fk(bvh):
-    """Global positions [F, J, 3] and rotation matrices [F, J, 3, 3]."""
-    names, parents, offsets, chans, data = bvh
+def local_fk(bvh):
+    """Per-joint translations [F, J, 3] (offset plus position channels) and
+    local rotation matrices [F, J, 3, 3]."""
+    names, _, offsets, chans, data = bvh
     F, J = len(data), len(names)
+    trans = np.broadcast_to(offsets, (F, J, 3)).copy()
     rot = np.zeros((F, J, 3, 3))
-    pos = np.zeros((F, J, 3))
     col = 0
     for j in range(J):
         r = np.broadcast_to(np.eye(3), (F, 3, 3)).copy()
-        t = np.broadcast_to(offsets[j], (F, 3)).copy()
         for c in chans[j]:
             v = data[:, col]
             col += 1
             if c.endswith("rotation"):
                 r = r @ axis_rot(c[0], np.radians(v))
             else:
-                t[:, "XYZ".index(c[0])] += v
+                trans[:, j, "XYZ".index(c[0])] += v
+        rot[:, j] = r
+    return trans, rot
+
+
+def fk_from_local(bvh, trans, loc):
+    """Global positions [F, J, 3] and rotations [F, J, 3, 3] from local_fk's
+    translations and local rotations on bvh's skeleton."""
+    parents = bvh[1]
+    F, J = loc.shape[:2]
+    rot, pos = np.zeros_like(loc), np.zeros((F, J, 3))
+    for j in range(J):
         p = parents[j]
         if p < 0:
-            rot[:, j], pos[:, j] = r, t
+            rot[:, j], pos[:, j] = loc[:, j], trans[:, j]
         else:
-            pos[:, j] = pos[:, p] + np.einsum("fij,fj->fi", rot[:, p], t)
-            rot[:, j] = rot[:, p] @ r
+            pos[:, j] = pos[:, p] + np.einsum("fij,fj->fi", rot[:, p], trans[:, j])
+            rot[:, j] = rot[:, p] @ loc[:, j]
     return pos, rot
+
+
+def global_fk(bvh):
+    """Global positions [F, J, 3] and rotation matrices [F, J, 3, 3]."""
+    return fk_from_local(bvh, *local_fk(bvh))
 
 
 def mat_to_quat(m):
@@ -216,26 +231,6 @@ def hybrid_columns(bvh, group):
     return cols
 
 
-def local_fk(bvh):
-    """Root positions [F, 3] and local rotation matrices [F, J, 3, 3]."""
-    names, parents, offsets, chans, data = bvh
-    F, J = len(data), len(names)
-    rot = np.zeros((F, J, 3, 3))
-    root = np.broadcast_to(offsets[0], (F, 3)).copy()
-    col = 0
-    for j in range(J):
-        r = np.broadcast_to(np.eye(3), (F, 3, 3)).copy()
-        for c in chans[j]:
-            v = data[:, col]
-            col += 1
-            if c.endswith("rotation"):
-                r = r @ axis_rot(c[0], np.radians(v))
-            elif j == 0:
-                root[:, "XYZ".index(c[0])] += v
-        rot[:, j] = r
-    return root, rot
-
-
 def quat_to_mat(q):
     w, x, y, z = np.moveaxis(q, -1, 0)
     return np.stack([
@@ -244,39 +239,24 @@ def quat_to_mat(q):
         np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1)], -2)
 
 
-def fk_from_local(bvh, root, loc):
-    """Global positions and rotations from root positions [F, 3] and local
-    rotation matrices [F, J, 3, 3] on bvh's skeleton."""
-    _, parents, offsets, _, _ = bvh
-    F, J = loc.shape[:2]
-    rot, pos = np.zeros_like(loc), np.zeros((F, J, 3))
-    for j in range(J):
-        p = parents[j]
-        if p < 0:
-            rot[:, j], pos[:, j] = loc[:, j], root
-        else:
-            pos[:, j] = pos[:, p] + rot[:, p] @ offsets[j]
-            rot[:, j] = rot[:, p] @ loc[:, j]
-    return pos, rot
-
-
 def blend_fk(bvh, a, b, w):
     """Global positions and rotations of the blend of two clips' local poses
-    (quaternion nlerp per joint, lerp of the root position) by weight w."""
-    ra, qa = local_fk(a)
-    rb, qb = local_fk(b)
+    (quaternion nlerp per joint, lerp of the translations, i.e. the root
+    position) by weight w."""
+    ta, qa = local_fk(a)
+    tb, qb = local_fk(b)
     qa, qb = mat_to_quat(qa), mat_to_quat(qb)
     qb = qb * np.sign((qa * qb).sum(-1, keepdims=True) + 1e-12)
     q = (1 - w) * qa + w * qb
     loc = quat_to_mat(q / np.linalg.norm(q, axis=-1, keepdims=True))
-    root = (1 - w) * ra + w * rb
-    return fk_from_local(bvh, root, loc)
+    return fk_from_local(bvh, (1 - w) * ta + w * tb, loc)
 
 
 def cubic_fk(bvh, keys):
     """Diagnostic baseline: uniform Catmull-Rom splines through the keys'
     root positions and (sign-aligned, renormalized) local joint quaternions."""
-    root, loc = local_fk(bvh)
+    trans, loc = local_fk(bvh)
+    root = trans[:, 0]
     q = mat_to_quat(loc)
     for i in range(1, len(keys)):
         q[keys[i]] *= np.sign((q[keys[i]] * q[keys[i - 1]]).sum(-1, keepdims=True) + 1e-12)
@@ -295,8 +275,9 @@ def cubic_fk(bvh, keys):
             tt = t.reshape(sh)
             out[a + 1:b] = 0.5 * ((2 * p1) + (-p0 + p2) * tt + (2 * p0 - 5 * p1 + 4 * p2 - p3) * tt ** 2
                                   + (-p0 + 3 * p1 - 3 * p2 + p3) * tt ** 3)
+    trans[:, 0] = root_o
     loc = quat_to_mat(q_o / np.linalg.norm(q_o, axis=-1, keepdims=True))
-    return fk_from_local(bvh, root_o, loc)
+    return fk_from_local(bvh, trans, loc)
 
 
 def main():
@@ -316,10 +297,10 @@ def main():
             chunks.append(w.reshape(300, -1))
     flat = np.concatenate(chunks)
     mu, sd = flat.mean(0), flat.std(0) + 1e-6
-    if HYBRIDS and not (HYBRID_BASE and "slerp" in METHODS):
-        sys.exit("EVAL_HYBRIDS needs slerp and model (or model-nolock) in EVAL_METHODS")
+    if DIAGNOSTICS and not (HYBRID_BASE and "slerp" in METHODS):
+        sys.exit("EVAL_HYBRIDS, EVAL_BLEND and EVAL_CUBIC need slerp and model (or model-nolock) in EVAL_METHODS")
     acc = {(m, g): {"l2p": [], "l2q": [], "gt": [], "pred": [], "skate": [], "accel": [], "keyraw": [], "key": []}
-           for m in METHODS + list(HYBRIDS) for g in GAPS}
+           for m in METHODS + DIAGNOSTICS for g in GAPS}
     gt_skate, gt_accel = [], []
     with tempfile.TemporaryDirectory() as tmp:
         for cls in sorted(TRUE_FPS):
@@ -346,21 +327,19 @@ def main():
                             acc[(m, g)]["key"].append(nums[2:])
                         score(acc[(m, g)], global_fk(read_bvh(out)), (gpos, grot), keys, feet, floor, mu, sd)
                     gt_accel.extend(accel(gpos[a:b + 1]) for a, b in zip(keys[:-1], keys[1:]))
-                    if HYBRIDS:
+                    if DIAGNOSTICS:
                         mb = read_bvh(os.path.join(tmp, f"out_{HYBRID_BASE}_{g}.bvh"))
                         sb = read_bvh(os.path.join(tmp, f"out_slerp_{g}.bvh"))
-                    if "cubic" in HYBRIDS:
-                        score(acc[("cubic", g)], cubic_fk(gt, keys), (gpos, grot), keys, feet, floor, mu, sd)
+                    if CUBIC:
+                        cpos, crot = cubic_fk(gt, keys)
+                        score(acc[("cubic", g)], (cpos, crot), (gpos, grot), keys, feet, floor, mu, sd)
                         # the model with the spline's root position
-                        cb = cubic_fk(gt, keys)
-                        shift = cb[0][:, :1] - global_fk(mb)[0][:, :1]
-                        mp, mr = global_fk(mb)
-                        score(acc[("model, cubic root position", g)], (mp + shift, mr), (gpos, grot), keys, feet, floor, mu, sd)
+                        mpos, mrot = global_fk(mb)
+                        mpos += cpos[:, :1] - mpos[:, :1]
+                        score(acc[("model, cubic root position", g)], (mpos, mrot), (gpos, grot), keys, feet, floor, mu, sd)
                     for h, w in BLENDS.items():
                         score(acc[(h, g)], blend_fk(gt, mb, sb, w), (gpos, grot), keys, feet, floor, mu, sd)
                     for h, group in HYBRIDS.items():
-                        if h in BLENDS or h is None or HYBRIDS[h] is None:
-                            continue
                         cols = hybrid_columns(gt, group)
                         data = mb[4].copy()
                         data[:, cols] = sb[4][:, cols]
@@ -384,13 +363,13 @@ def main():
     res["ground_truth_foot_skate"] = float(np.mean(gt_skate))
     res["ground_truth_acceleration"] = float(np.mean(gt_accel))
     os.makedirs(os.path.join(ROOT, "docs"), exist_ok=True)
-    out_json = "inbetween_hybrids.json" if HYBRIDS else "inbetween_eval.json" if SPLIT == "val" else "inbetween_eval_train.json"
+    out_json = "inbetween_hybrids.json" if DIAGNOSTICS else "inbetween_eval.json" if SPLIT == "val" else "inbetween_eval_train.json"
     with open(os.path.join(ROOT, "docs", out_json), "w") as f:
         json.dump(res, f, indent=1)
     print("| metric | method | " + " | ".join(f"gap {g}" for g in GAPS) + " |")
     print("|---|---|" + "---|" * len(GAPS))
     for metric in ["L2P", "L2Q", "NPSS", "foot_skate", "acceleration"]:
-        for m in METHODS + list(HYBRIDS):
+        for m in METHODS + DIAGNOSTICS:
             print(f"| {metric} | {m} | " + " | ".join(f"{res[f'{m}@{g}'][metric]:.3f}" for g in GAPS) + " |")
     print(f"ground-truth foot skating: {res['ground_truth_foot_skate']:.3f} units/frame")
     print(f"ground-truth acceleration: {res['ground_truth_acceleration']:.3f} units/frame^2")
@@ -412,7 +391,7 @@ def main():
             ax[i].set_title(metric + " (lower is better)")
         ax[0].legend()
         fig.tight_layout()
-        if not HYBRIDS and SPLIT == "val":
+        if not DIAGNOSTICS and SPLIT == "val":
             fig.savefig(os.path.join(ROOT, "docs", "inbetween_eval.png"), dpi=110)
     except ImportError:
         print("matplotlib missing: no plot")

@@ -50,11 +50,10 @@ def score(run, ckpt):
 def main():
     run = sys.argv[1]
     want = set(sys.argv[2:])
-    snaps = sorted(glob.glob(os.path.join(run, "gen_*.pt")), key=lambda p: int(re.findall(r"\d+", os.path.basename(p))[0]))
+    snaps = {re.fullmatch(r"gen_(\d+)\.pt", os.path.basename(p))[1]: p for p in glob.glob(os.path.join(run, "gen_*.pt"))}
     out_path = os.path.join(run, "pick.json")
     out = json.load(open(out_path)) if os.path.exists(out_path) else {}
-    for p in snaps:
-        steps = re.findall(r"\d+", os.path.basename(p))[0]
+    for steps, p in sorted(snaps.items(), key=lambda kv: int(kv[0])):
         if (want and steps not in want) or steps in out:
             continue
         out[steps] = score(run, p)
