@@ -1,4 +1,5 @@
-"""Scores a run's generator snapshots (gen_<steps>.pt, kept while it trains)
+"""Scores a run's generator snapshots (gen_<steps>.pt, kept while it trains
+with `train_tween.py --keep-snapshots`)
 on the *training* takes, so a checkpoint is chosen without looking at the
 validation takes that the README reports.
 

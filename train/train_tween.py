@@ -12,6 +12,7 @@ import copy
 import json
 import math
 import os
+import shutil
 import sys
 import time
 
@@ -243,6 +244,8 @@ def main():
     ap.add_argument("--ema", type=float, default=None,
                     help="keep an exponential moving average of the generator's weights with this decay "
                          "(e.g. 0.999; not in the thesis; run 18) and export it")
+    ap.add_argument("--keep-snapshots", action="store_true",
+                    help="also keep every 500-step checkpoint as gen_<steps>.pt (for train/pick_checkpoint.py)")
     ap.add_argument("--resume", default=None, help="continue from a gen.pt checkpoint (generator and discriminator)")
     args = ap.parse_args()
     torch.set_num_threads(args.threads)
@@ -301,6 +304,8 @@ def main():
         if ema is not None:
             ck["G_ema"] = ema.state_dict()
         torch.save(ck, os.path.join(OUT, "gen.pt"))
+        if args.keep_snapshots:
+            shutil.copy(os.path.join(OUT, "gen.pt"), os.path.join(OUT, f"gen_{step}.pt"))
 
     og = torch.optim.Adam(G.parameters(), lr=args.lr_g, betas=(0.5, 0.99))
     od = torch.optim.Adam(D.parameters(), lr=args.lr_d, betas=(0.5, 0.99))
