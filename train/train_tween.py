@@ -23,7 +23,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from deeprep_train.rcfk import RCFK  # noqa: E402
 from deeprep_train.rotation import sixd_to_matrix  # noqa: E402
 from deeprep_train.tween import (SCALE, GAN_TARGET, Discriminator, Generator, PathPredictor,  # noqa: E402
-                                 dense_input, interp_channels, path_loss, rc_to_raw)
+                                 dense_input, interp_channels, path_loss, rc_to_raw,
+                                 spline_channels)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OUT = os.environ.get("TWEEN_OUT", os.path.join(ROOT, "train", "cache", "tween"))
@@ -113,7 +114,7 @@ def sample_keys(n, rng, gaps="uniform"):
     return keys
 
 
-def make_batch(data, b, n, rng, fk, gaps="uniform"):
+def make_batch(data, b, n, rng, fk, gaps="uniform", base="linear"):
     J = len(data.joints)
     P = J * 3
     R = fk.output_dim
@@ -156,7 +157,8 @@ def make_batch(data, b, n, rng, fk, gaps="uniform"):
         dna.append(lam(lo[idx], r[idx, 3:9]).reshape(len(idx), P) / SCALE)
         keysets.append(keys)
     dense_rot = dense_input(rpose, rmask, n)
-    dense_rot[:, :R] = interp_channels(rpose, rmask).transpose(1, 2)
+    between = spline_channels if base == "spline" else interp_channels
+    dense_rot[:, :R] = between(rpose, rmask).transpose(1, 2)
     return (dense_input(pose, mask, n), dense_rot, mask, torch.stack(dna), torch.stack(local),
             torch.stack(root), torch.stack(rc), keysets)
 
@@ -246,6 +248,9 @@ def main():
                          "(e.g. 0.999; not in the thesis; run 18) and export it")
     ap.add_argument("--keep-snapshots", action="store_true",
                     help="also keep every 500-step checkpoint as gen_<steps>.pt (for train/pick_checkpoint.py)")
+    ap.add_argument("--base", choices=["linear", "spline"], default="linear",
+                    help="what the generator corrects between whole-pose keys: their raw RC-FK values linearly "
+                         "interpolated (runs 9-19) or on a C1 cubic spline (spline_channels; not in the thesis)")
     ap.add_argument("--resume", default=None, help="continue from a gen.pt checkpoint (generator and discriminator)")
     args = ap.parse_args()
     torch.set_num_threads(args.threads)
@@ -312,7 +317,7 @@ def main():
     n, b = args.frames, args.batch
     t0, step = time.time(), step0
     while time.time() - t0 < args.gen_minutes * 60:
-        dense, dense_rot, mask, dna, local, root, rc, keysets = make_batch(data, b, n, rng, fk, args.gaps)
+        dense, dense_rot, mask, dna, local, root, rc, keysets = make_batch(data, b, n, rng, fk, args.gaps, args.base)
         raw = G(dense, dense_rot, dna).transpose(1, 2)           # [B, N, out]
         gen = fk(raw, torch.zeros(b, n, 3))                      # [B, N, J, 3] local (root at 0)
         gen_s, gt_s = gen / SCALE, local / SCALE

@@ -242,3 +242,37 @@ def interp_channels(values, mask):
     both = has_p & has_n & (nb > pa)
     out = torch.where(both, va + w * (vb - va), torch.where(has_p, va, torch.where(has_n, vb, torch.zeros_like(va))))
     return out
+
+
+def spline_channels(values, mask):
+    """Per channel, a cubic Hermite spline through the frames where the channel
+    is given, with finite-difference tangents (p[k+1] - p[k-1]) / (t[k+1] - t[k-1])
+    (the secant at the first and last given frame): uniform Catmull-Rom when
+    the keys are evenly spaced, C1 otherwise. Held before the first and after
+    the last given frame; 0 where never given. values, mask: [B, N, R] -> [B, N, R].
+    Mirrors spline_channels in crate/src/motion/dense.rs."""
+    B, N, R = values.shape
+    idx = torch.arange(N).view(1, N, 1).expand(B, N, R)
+    big = 10 ** 9
+    prev = torch.cummax(torch.where(mask, idx, torch.full_like(idx, -big)), dim=1).values
+    nxt = torch.flip(torch.cummin(torch.flip(torch.where(mask, idx, torch.full_like(idx, big)), [1]), dim=1).values, [1])
+    # the given frame strictly before / after each frame
+    prev_s = torch.cat([torch.full_like(prev[:, :1], -big), prev[:, :-1]], dim=1)
+    nxt_s = torch.cat([nxt[:, 1:], torch.full_like(nxt[:, :1], big)], dim=1)
+    has_p, has_n = prev >= 0, nxt < N
+    a, b = prev.clamp(0, N - 1), nxt.clamp(0, N - 1)
+    pa = torch.gather(prev_s, 1, a)  # key before a
+    nb = torch.gather(nxt_s, 1, b)   # key after b
+    has_pa, has_nb = pa >= 0, nb < N
+    pa, nb = pa.clamp(0, N - 1), nb.clamp(0, N - 1)
+    va, vb = torch.gather(values, 1, a), torch.gather(values, 1, b)
+    vpa, vnb = torch.gather(values, 1, pa), torch.gather(values, 1, nb)
+    h = (b - a).clamp(min=1).float()
+    sec = (vb - va) / h
+    ma = torch.where(has_pa, (vb - vpa) / (b - pa).clamp(min=1).float(), sec)
+    mb = torch.where(has_nb, (vnb - va) / (nb - a).clamp(min=1).float(), sec)
+    s = ((idx - a).float() / h).clamp(0, 1)
+    s2, s3 = s * s, s * s * s
+    cur = (2 * s3 - 3 * s2 + 1) * va + (s3 - 2 * s2 + s) * h * ma + (-2 * s3 + 3 * s2) * vb + (s3 - s2) * h * mb
+    both = has_p & has_n & (b > a)
+    return torch.where(both, cur, torch.where(has_p, va, torch.where(has_n, vb, torch.zeros_like(va))))
