@@ -88,8 +88,9 @@ def main():
     write_json(os.path.join(ONNX_DIR, "tween_generator.manifest.json"), {
         "name": "tween_generator",
         "inputs": [{"name": "dense", "shape": [1, 2 * P, "frames"], "meaning": "dense keyframe input (Fig. 5.3): pose copies then distance transforms; frames a multiple of 64"},
-                   {"name": "dense_rot", "shape": [1, 2 * fk.output_dim, "frames"], "meaning": "the same dense format for whole-pose keys' raw RC-FK values (root 6D, atanh of range position, |v| <= 3); the output adds to the copied values"},
+                   {"name": "dense_rot", "shape": [1, 2 * fk.output_dim, "frames"], "meaning": "the same dense format for whole-pose keys' raw RC-FK values (root 6D, atanh of range position, |v| <= 3), the values interpolated between keys as `base` says; the output adds to them"},
                    {"name": "dna", "shape": [1, "dna_frames", P], "meaning": "Motion DNA: representative local poses without root rotation, divided by scale"}],
+        "base": gck["args"].get("base", "linear"),
         "outputs": [{"name": "raw", "shape": [1, fk.output_dim, "frames"], "meaning": "root 6D, then tanh-ranged Euler values per rotating joint (RC-FK)"}],
         "training": {"steps": gck["steps"], "batch": gck["args"]["batch"], "frames": gck["args"]["frames"],
                      "loss_weights": gck.get("weights", W), "gan_target": GAN_TARGET, "last_log": last},

@@ -1,5 +1,5 @@
 """Writes tests/fixtures/dense_torch.json: keys with partial masks through the
-PyTorch dense input (Fig. 5.3) and the interpolated raw channels, for the
+PyTorch dense input (Fig. 5.3) and the interpolated raw channels (linear and spline), for the
 Rust parity test in tests/native/motion.rs. No data needed.
 Run: train/.venv/bin/python train/make_dense_fixture.py"""
 import json
@@ -9,7 +9,7 @@ import sys
 import torch
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from deeprep_train.tween import SCALE, dense_input, interp_channels  # noqa: E402
+from deeprep_train.tween import SCALE, dense_input, interp_channels, spline_channels  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -45,7 +45,8 @@ def main():
     out = {"frames": n, "joints": J, "raw_width": R,
            "keys": [{"frame": f, "positions": pos[i].tolist(), "mask": mask[i].tolist(),
                      "raw": raw[i].tolist() if bool(rmask[i].all()) else None} for i, f in enumerate(frames)],
-           "dense": dense.flatten().tolist(), "dense_rot": drot.flatten().tolist()}
+           "dense": dense.flatten().tolist(), "dense_rot": drot.flatten().tolist(),
+           "spline": spline_channels(rv, rm)[0].T.flatten().tolist()}
     json.dump(out, open(os.path.join(ROOT, "tests", "fixtures", "dense_torch.json"), "w"))
     print("wrote tests/fixtures/dense_torch.json")
 

@@ -295,7 +295,7 @@ fn interpolated_channels_are_linear_between_keys_and_held_outside() {
 #[test]
 fn dense_inputs_match_the_pytorch_training_code() {
     // Written by train/make_dense_fixture.py from train/deeprep_train/tween.py.
-    use deeprep::motion::dense::{dense_channels, interp_channels};
+    use deeprep::motion::dense::{dense_channels, interp_channels, spline_channels};
     let p = root().join("tests/fixtures/dense_torch.json");
     let f: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap();
     let floats = |v: &serde_json::Value| -> Vec<f32> {
@@ -344,6 +344,49 @@ fn dense_inputs_match_the_pytorch_training_code() {
     let mut drot = dense_channels(&rows, r, n, &NORM);
     drot[..r * n].copy_from_slice(&interp_channels(&rows, r, n));
     close(&drot, &floats(&f["dense_rot"]), "dense key rotations");
+    close(
+        &spline_channels(&rows, r, n),
+        &floats(&f["spline"]),
+        "spline of key rotations",
+    );
+}
+
+#[test]
+fn spline_channels_pass_through_keys_and_keep_linear_data_linear() {
+    use deeprep::motion::dense::spline_channels;
+    // Unevenly spaced keys on a line: the spline is that line between them.
+    let line = |t: usize| 0.5 * t as f32 - 3.0;
+    let rows: Vec<_> = [2usize, 5, 17, 40]
+        .iter()
+        .map(|&t| (t, vec![line(t), (t * t) as f32], vec![true, true]))
+        .collect();
+    let v = spline_channels(&rows, 2, 45);
+    for t in 2..=40 {
+        assert!(
+            (v[t] - line(t)).abs() < 1e-4,
+            "frame {t}: {} vs {}",
+            v[t],
+            line(t)
+        );
+    }
+    assert_eq!(v[0], line(2), "held before the first key");
+    assert_eq!(v[44], line(40), "held after the last key");
+    // A curved channel: exact at keys, C1 (no kink) across an inner key.
+    for &t in &[2usize, 5, 17, 40] {
+        assert!((v[45 + t] - (t * t) as f32).abs() < 1e-3);
+    }
+    // Slope change across key 17 (one-frame differences): the spline's is
+    // its curvature, small next to the linear interpolation's kink.
+    let lin = deeprep::motion::dense::interp_channels(&rows, 2, 45);
+    let jump = |x: &[f32]| (x[45 + 18] - x[45 + 17]) - (x[45 + 17] - x[45 + 16]);
+    assert!(
+        jump(&v).abs() < 0.2 * jump(&lin).abs(),
+        "kink at 17: {} vs linear {}",
+        jump(&v),
+        jump(&lin)
+    );
+    // Differs from the linear interpolation on curved data.
+    assert!((v[45 + 30] - lin[45 + 30]).abs() > 1.0);
 }
 
 // ---------------------------------------------------------------------------

@@ -131,3 +131,57 @@ pub fn interp_channels(
     }
     out
 }
+
+/// Per channel, a cubic Hermite spline through the rows that give the
+/// channel, with finite-difference tangents `(p[k+1] - p[k-1]) / (t[k+1] -
+/// t[k-1])` (the secant at the first and the last row): uniform Catmull-Rom
+/// when rows are evenly spaced, C1 otherwise. Held before the first and
+/// after the last row; 0 where no row gives it. Rows must be sorted by
+/// frame. Returns `[width, frames]`. Mirrors `spline_channels` in
+/// train/deeprep_train/tween.py.
+pub fn spline_channels(
+    rows: &[(usize, Vec<f32>, Vec<bool>)],
+    width: usize,
+    frames: usize,
+) -> Vec<f32> {
+    let mut out = vec![0.0f32; width * frames];
+    for c in 0..width {
+        let keys: Vec<(f32, f32)> = rows
+            .iter()
+            .filter(|r| r.2[c])
+            .map(|r| (r.0 as f32, r.1[c]))
+            .collect();
+        if keys.is_empty() {
+            continue;
+        }
+        let tangent = |k: usize| -> f32 {
+            let (lo, hi) = (k.saturating_sub(1), (k + 1).min(keys.len() - 1));
+            if lo == hi {
+                return 0.0;
+            }
+            (keys[hi].1 - keys[lo].1) / (keys[hi].0 - keys[lo].0)
+        };
+        let row = &mut out[c * frames..(c + 1) * frames];
+        let mut g = 0;
+        for (t, v) in row.iter_mut().enumerate() {
+            let tf = t as f32;
+            while g + 1 < keys.len() && keys[g + 1].0 <= tf {
+                g += 1;
+            }
+            let (ta, va) = keys[g];
+            *v = if ta > tf || g + 1 == keys.len() {
+                va // before the first row, at or after the last
+            } else {
+                let (tb, vb) = keys[g + 1];
+                let h = tb - ta;
+                let s = (tf - ta) / h;
+                let (s2, s3) = (s * s, s * s * s);
+                (2.0 * s3 - 3.0 * s2 + 1.0) * va
+                    + (s3 - 2.0 * s2 + s) * h * tangent(g)
+                    + (-2.0 * s3 + 3.0 * s2) * vb
+                    + (s3 - s2) * h * tangent(g + 1)
+            };
+        }
+    }
+    out
+}

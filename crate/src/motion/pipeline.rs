@@ -2,7 +2,7 @@
 //! dense input → generator (tract) → RC-FK → path predictor (tract) →
 //! integrated root path → post-processing → motion.
 
-use super::dense::{dense_channels, dense_input, interp_channels, Norm};
+use super::dense::{dense_channels, dense_input, interp_channels, spline_channels, Norm};
 use super::feet::{lock_feet, FootLock, FootLockStats};
 use super::{post, validate_keys, Keyframe, Motion};
 use crate::error::{Error, Result};
@@ -20,6 +20,21 @@ struct Manifest {
     skeleton_bvh: String,
     range_table: Vec<TableRow>,
     normalization: NormJson,
+    #[serde(default)]
+    base: Base,
+}
+
+/// What the generator corrects between whole-pose keys: their raw RC-FK
+/// values interpolated linearly or on a C1 spline (the manifest's `base`;
+/// models exported before it existed are linear).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Base {
+    /// [`interp_channels`].
+    #[default]
+    Linear,
+    /// [`spline_channels`].
+    Spline,
 }
 
 #[derive(Deserialize)]
@@ -39,6 +54,8 @@ pub struct TweenModels {
     pub template: Bvh,
     /// Normalization constants.
     pub norm: Norm,
+    /// The interpolation the generator was trained to correct.
+    pub base: Base,
 }
 
 /// A synthesis request.
@@ -113,6 +130,7 @@ impl TweenModels {
                 dt_norm: m.normalization.dt_norm,
                 dt_clip: m.normalization.dt_clip,
             },
+            base: m.base,
         })
     }
 
@@ -172,10 +190,15 @@ impl TweenModels {
                     .map(|r| (k.frame, self.rc.raw_from_rotations(r), vec![true; d]))
             })
             .collect();
-        // Values: the keys' raw values interpolated between keys; then the
-        // distance transform, as in the dense format.
+        // Values: the keys' raw values interpolated between keys (as the
+        // model was trained: linearly or on a spline); then the distance
+        // transform, as in the dense format.
         let mut dense_rot = dense_channels(&rot_rows, d, n, &self.norm);
-        dense_rot[..d * n].copy_from_slice(&interp_channels(&rot_rows, d, n));
+        let between = match self.base {
+            Base::Linear => interp_channels(&rot_rows, d, n),
+            Base::Spline => spline_channels(&rot_rows, d, n),
+        };
+        dense_rot[..d * n].copy_from_slice(&between);
         let dna = self.dna(req)?;
         let k = dna.len() / p;
         let out = self.generator.run(&[
