@@ -23,8 +23,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from deeprep_train.rcfk import RCFK  # noqa: E402
 from deeprep_train.rotation import sixd_to_matrix  # noqa: E402
 from deeprep_train.tween import (SCALE, GAN_TARGET, Discriminator, Generator, PathPredictor,  # noqa: E402
-                                 dense_input, interp_channels, path_loss, rc_to_raw,
-                                 spline_channels)
+                                 base_channels, dense_input, path_loss, rc_to_raw, BASES)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OUT = os.environ.get("TWEEN_OUT", os.path.join(ROOT, "train", "cache", "tween"))
@@ -157,8 +156,7 @@ def make_batch(data, b, n, rng, fk, gaps="uniform", base="linear"):
         dna.append(lam(lo[idx], r[idx, 3:9]).reshape(len(idx), P) / SCALE)
         keysets.append(keys)
     dense_rot = dense_input(rpose, rmask, n)
-    between = spline_channels if base == "spline" else interp_channels
-    dense_rot[:, :R] = between(rpose, rmask).transpose(1, 2)
+    dense_rot[:, :R] = base_channels(rpose, rmask, base).transpose(1, 2)
     return (dense_input(pose, mask, n), dense_rot, mask, torch.stack(dna), torch.stack(local),
             torch.stack(root), torch.stack(rc), keysets)
 
@@ -248,9 +246,9 @@ def main():
                          "(e.g. 0.999; not in the thesis; run 18) and export it")
     ap.add_argument("--keep-snapshots", action="store_true",
                     help="also keep every 500-step checkpoint as gen_<steps>.pt (for train/pick_checkpoint.py)")
-    ap.add_argument("--base", choices=["linear", "spline"], default="linear",
-                    help="what the generator corrects between whole-pose keys: their raw RC-FK values linearly "
-                         "interpolated (runs 9-19) or on a C1 cubic spline (spline_channels; not in the thesis)")
+    ap.add_argument("--base", choices=BASES, default="linear",
+                    help="what the generator corrects between whole-pose keys (base_channels): their raw RC-FK "
+                         "values interpolated linearly (runs 9-19) or on a C1 spline, in raw space or in angle")
     ap.add_argument("--resume", default=None, help="continue from a gen.pt checkpoint (generator and discriminator)")
     args = ap.parse_args()
     torch.set_num_threads(args.threads)

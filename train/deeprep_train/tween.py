@@ -276,3 +276,25 @@ def spline_channels(values, mask):
     cur = (2 * s3 - 3 * s2 + 1) * va + (s3 - 2 * s2 + s) * h * ma + (-2 * s3 + 3 * s2) * vb + (s3 - s2) * h * mb
     both = has_p & has_n & (b > a)
     return torch.where(both, cur, torch.where(has_p, va, torch.where(has_n, vb, torch.zeros_like(va))))
+
+
+BASES = ("linear", "spline", "angle-linear", "angle-spline")
+
+
+def base_channels(values, mask, base="linear"):
+    """What the generator corrects between whole-pose keys (train_tween --base):
+    the keys' raw RC-FK values interpolated linearly (interp_channels) or on a
+    spline (spline_channels), either in the raw space itself ("linear",
+    "spline") or, for the Euler channels after the root 6D, in range position
+    tanh(v), i.e. linearly in angle ("angle-linear", "angle-spline"), then
+    mapped back (|v| <= VCLIP). [B, N, R] -> [B, N, R]. Mirrors base_channels
+    in crate/src/motion/dense.rs."""
+    if base not in BASES:
+        raise ValueError(f"unknown base {base!r}; one of {BASES}")
+    between = spline_channels if base.endswith("spline") else interp_channels
+    if not base.startswith("angle"):
+        return between(values, mask)
+    lim = math.tanh(VCLIP)
+    v = torch.cat([values[..., :6], torch.tanh(values[..., 6:])], -1)
+    out = between(v, mask)
+    return torch.cat([out[..., :6], torch.atanh(out[..., 6:].clamp(-lim, lim))], -1)
