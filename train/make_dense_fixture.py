@@ -1,5 +1,5 @@
 """Writes tests/fixtures/dense_torch.json: keys with partial masks through the
-PyTorch dense input (Fig. 5.3) and the interpolated raw channels (linear and spline), for the
+PyTorch dense input (Fig. 5.3) and the interpolated raw channels (every base_channels base), for the
 Rust parity test in tests/native/motion.rs. No data needed.
 Run: train/.venv/bin/python train/make_dense_fixture.py"""
 import json
@@ -9,7 +9,7 @@ import sys
 import torch
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from deeprep_train.tween import SCALE, dense_input, interp_channels, spline_channels  # noqa: E402
+from deeprep_train.tween import BASES, SCALE, base_channels, dense_input, interp_channels  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -23,7 +23,7 @@ def main():
     mask = torch.rand(len(frames), P, generator=g) > 0.3
     mask[1] = True
     mask[2, 3:] = False  # a root-only key
-    raw = torch.randn(len(frames), R, generator=g)
+    raw = torch.randn(len(frames), R, generator=g) * 1.5
     rmask = torch.zeros(len(frames), R, dtype=torch.bool)
     rmask[[0, 1, 4]] = True  # whole-pose keys carry raw values
     # network-space pose: root x/z relative to the mean root x/z of keys giving both
@@ -46,7 +46,7 @@ def main():
            "keys": [{"frame": f, "positions": pos[i].tolist(), "mask": mask[i].tolist(),
                      "raw": raw[i].tolist() if bool(rmask[i].all()) else None} for i, f in enumerate(frames)],
            "dense": dense.flatten().tolist(), "dense_rot": drot.flatten().tolist(),
-           "spline": spline_channels(rv, rm)[0].T.flatten().tolist()}
+           "bases": {b: base_channels(rv, rm, b)[0].T.flatten().tolist() for b in BASES}}
     json.dump(out, open(os.path.join(ROOT, "tests", "fixtures", "dense_torch.json"), "w"))
     print("wrote tests/fixtures/dense_torch.json")
 

@@ -295,7 +295,7 @@ fn interpolated_channels_are_linear_between_keys_and_held_outside() {
 #[test]
 fn dense_inputs_match_the_pytorch_training_code() {
     // Written by train/make_dense_fixture.py from train/deeprep_train/tween.py.
-    use deeprep::motion::dense::{dense_channels, interp_channels, spline_channels};
+    use deeprep::motion::dense::{base_channels, dense_channels, interp_channels, Base};
     let p = root().join("tests/fixtures/dense_torch.json");
     let f: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap();
     let floats = |v: &serde_json::Value| -> Vec<f32> {
@@ -344,11 +344,18 @@ fn dense_inputs_match_the_pytorch_training_code() {
     let mut drot = dense_channels(&rows, r, n, &NORM);
     drot[..r * n].copy_from_slice(&interp_channels(&rows, r, n));
     close(&drot, &floats(&f["dense_rot"]), "dense key rotations");
-    close(
-        &spline_channels(&rows, r, n),
-        &floats(&f["spline"]),
-        "spline of key rotations",
-    );
+    for (name, base) in [
+        ("linear", Base::Linear),
+        ("spline", Base::Spline),
+        ("angle-linear", Base::AngleLinear),
+        ("angle-spline", Base::AngleSpline),
+    ] {
+        close(
+            &base_channels(&rows, r, n, base),
+            &floats(&f["bases"][name]),
+            name,
+        );
+    }
 }
 
 #[test]

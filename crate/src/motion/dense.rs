@@ -1,6 +1,7 @@
 //! The dense keyframe input format (thesis Fig. 5.3), with a per-coordinate
 //! mask for partial keys. Mirrors `dense_input` in train/deeprep_train/tween.py.
 
+use super::spline::KeySpline;
 use super::Keyframe;
 
 /// Normalization constants, from the model manifest.
@@ -132,13 +133,11 @@ pub fn interp_channels(
     out
 }
 
-/// Per channel, a cubic Hermite spline through the rows that give the
-/// channel, with finite-difference tangents `(p[k+1] - p[k-1]) / (t[k+1] -
-/// t[k-1])` (the secant at the first and the last row): uniform Catmull-Rom
-/// when rows are evenly spaced, C1 otherwise. Held before the first and
-/// after the last row; 0 where no row gives it. Rows must be sorted by
-/// frame. Returns `[width, frames]`. Mirrors `spline_channels` in
-/// train/deeprep_train/tween.py.
+/// Per channel, a [`KeySpline`] through the rows that give the channel
+/// (uniform Catmull-Rom when they are evenly spaced, C1 otherwise). Held
+/// before the first and after the last row; 0 where no row gives it. Rows
+/// must be sorted by frame. Returns `[width, frames]`. Mirrors
+/// `spline_channels` in train/deeprep_train/tween.py.
 pub fn spline_channels(
     rows: &[(usize, Vec<f32>, Vec<bool>)],
     width: usize,
@@ -146,42 +145,71 @@ pub fn spline_channels(
 ) -> Vec<f32> {
     let mut out = vec![0.0f32; width * frames];
     for c in 0..width {
-        let keys: Vec<(f32, f32)> = rows
+        let keys: Vec<(f64, f64)> = rows
             .iter()
             .filter(|r| r.2[c])
-            .map(|r| (r.0 as f32, r.1[c]))
+            .map(|r| (r.0 as f64, r.1[c] as f64))
             .collect();
         if keys.is_empty() {
             continue;
         }
-        let tangent = |k: usize| -> f32 {
-            let (lo, hi) = (k.saturating_sub(1), (k + 1).min(keys.len() - 1));
-            if lo == hi {
-                return 0.0;
-            }
-            (keys[hi].1 - keys[lo].1) / (keys[hi].0 - keys[lo].0)
-        };
-        let row = &mut out[c * frames..(c + 1) * frames];
-        let mut g = 0;
-        for (t, v) in row.iter_mut().enumerate() {
-            let tf = t as f32;
-            while g + 1 < keys.len() && keys[g + 1].0 <= tf {
-                g += 1;
-            }
-            let (ta, va) = keys[g];
-            *v = if ta > tf || g + 1 == keys.len() {
-                va // before the first row, at or after the last
-            } else {
-                let (tb, vb) = keys[g + 1];
-                let h = tb - ta;
-                let s = (tf - ta) / h;
-                let (s2, s3) = (s * s, s * s * s);
-                (2.0 * s3 - 3.0 * s2 + 1.0) * va
-                    + (s3 - 2.0 * s2 + s) * h * tangent(g)
-                    + (-2.0 * s3 + 3.0 * s2) * vb
-                    + (s3 - s2) * h * tangent(g + 1)
-            };
+        let spline = KeySpline::new(keys);
+        for (t, v) in out[c * frames..(c + 1) * frames].iter_mut().enumerate() {
+            *v = spline.at(t as f64) as f32;
         }
     }
+    out
+}
+
+/// What the generator corrects between whole-pose keys (the manifest's
+/// `base`; models exported before it existed are [`Base::Linear`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Base {
+    /// Raw RC-FK values, [`interp_channels`].
+    #[default]
+    Linear,
+    /// Raw RC-FK values, [`spline_channels`].
+    Spline,
+    /// Root 6D raw; Euler channels linear in range position `tanh(v)`,
+    /// i.e. linear in angle.
+    AngleLinear,
+    /// As [`Base::AngleLinear`], on a spline.
+    AngleSpline,
+}
+
+/// The base the generator corrects: `rows` (whole-pose keys' raw RC-FK
+/// values, root 6D first) interpolated as `base` says. Returns `[width,
+/// frames]`. Mirrors `base_channels` in train/deeprep_train/tween.py.
+pub fn base_channels(
+    rows: &[(usize, Vec<f32>, Vec<bool>)],
+    width: usize,
+    frames: usize,
+    base: Base,
+) -> Vec<f32> {
+    let spline = matches!(base, Base::Spline | Base::AngleSpline);
+    let between = |r: &[(usize, Vec<f32>, Vec<bool>)]| {
+        if spline {
+            spline_channels(r, width, frames)
+        } else {
+            interp_channels(r, width, frames)
+        }
+    };
+    if matches!(base, Base::Linear | Base::Spline) {
+        return between(rows);
+    }
+    let to_angle: Vec<_> = rows
+        .iter()
+        .map(|(f, v, m)| {
+            let mut v = v.clone();
+            v.iter_mut().skip(6).for_each(|x| *x = x.tanh());
+            (*f, v, m.clone())
+        })
+        .collect();
+    let mut out = between(&to_angle);
+    let lim = crate::rcfk::V_CLIP.tanh() as f32;
+    out.iter_mut()
+        .skip(6 * frames)
+        .for_each(|x| *x = x.clamp(-lim, lim).atanh());
     out
 }

@@ -14,6 +14,7 @@ pub mod dense;
 pub mod feet;
 pub mod pipeline;
 pub mod post;
+pub mod spline;
 
 use crate::error::{Error, Result};
 use crate::rotation::euler::{matrix_to_euler, Axis, EulerOrder, Frame};

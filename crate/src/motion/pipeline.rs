@@ -2,7 +2,7 @@
 //! dense input → generator (tract) → RC-FK → path predictor (tract) →
 //! integrated root path → post-processing → motion.
 
-use super::dense::{dense_channels, dense_input, interp_channels, spline_channels, Norm};
+use super::dense::{base_channels, dense_channels, dense_input, Base, Norm};
 use super::feet::{lock_feet, FootLock, FootLockStats};
 use super::{post, validate_keys, Keyframe, Motion};
 use crate::error::{Error, Result};
@@ -22,19 +22,6 @@ struct Manifest {
     normalization: NormJson,
     #[serde(default)]
     base: Base,
-}
-
-/// What the generator corrects between whole-pose keys: their raw RC-FK
-/// values interpolated linearly or on a C1 spline (the manifest's `base`;
-/// models exported before it existed are linear).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Base {
-    /// [`interp_channels`].
-    #[default]
-    Linear,
-    /// [`spline_channels`].
-    Spline,
 }
 
 #[derive(Deserialize)]
@@ -194,11 +181,8 @@ impl TweenModels {
         // model was trained: linearly or on a spline); then the distance
         // transform, as in the dense format.
         let mut dense_rot = dense_channels(&rot_rows, d, n, &self.norm);
-        let between = match self.base {
-            Base::Linear => interp_channels(&rot_rows, d, n),
-            Base::Spline => spline_channels(&rot_rows, d, n),
-        };
-        dense_rot[..d * n].copy_from_slice(&between);
+        let base = base_channels(&rot_rows, d, n, self.base);
+        dense_rot[..d * n].copy_from_slice(&base);
         let dna = self.dna(req)?;
         let k = dna.len() / p;
         let out = self.generator.run(&[
