@@ -50,10 +50,13 @@ from data_pipeline import DATA, TRUE_FPS, VALIDATION, take_of  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 GAPS = [int(g) for g in os.environ.get("EVAL_GAPS", "30,60,120,300").split(",")]
-METHODS = os.environ.get("EVAL_METHODS", "zerovel,slerp,model,model-nolock").split(",")
+METHODS = os.environ.get("EVAL_METHODS", "zerovel,slerp,model,model-nolock,base").split(",")
 # "model-nolock": the model with post-processing that makes keys exact
 # but leaves the feet as synthesized (CLI --no-foot-lock).
-METHOD_ARGS = {"model-nolock": ["--method", "model", "--no-foot-lock"]}
+METHOD_ARGS = {"model-nolock": ["--method", "model", "--no-foot-lock"],
+               # "base": the ablation without the generator's correction (--variation 0):
+               # the keys interpolated as the model's base, the learned root path, keys exact
+               "base": ["--method", "model", "--no-foot-lock", "--variation", "0"]}
 # EVAL_SPLIT=train scores training takes instead (for choosing settings
 # without looking at validation takes) and writes docs/inbetween_eval_train.json.
 SPLIT = os.environ.get("EVAL_SPLIT", "val")

@@ -40,7 +40,8 @@ rows = []
 for metric, label in [("L2P", "L2P"), ("L2Q", "L2Q"), ("NPSS", "NPSS"), ("foot_skate", "foot skating (units/frame)"),
                       ("acceleration", "joint acceleration (units/frame²)")]:
     for m, name in [("zerovel", "zero-velocity"), ("slerp", "SLERP+LERP"), ("model", "model"),
-                    ("model-nolock", "model without foot locking")]:
+                    ("model-nolock", "model without foot locking"),
+                    ("base", "base alone, no generator correction (`--variation 0`)")]:
         if f"{m}@30" not in ev:
             continue
         rows.append(f"| {label} | {name} | " + " | ".join(f"{ev[f'{m}@{g}'][metric]:.3f}" for g in gaps) + " |")
@@ -60,7 +61,9 @@ whole-pose keys is one window ({ev['model@30']['windows']} windows at gap 30, {e
 
 "model" is the default pipeline: post-processing makes the keys exact, then
 locks feet in contact (`crate/src/motion/feet.rs`); "model without foot
-locking" is `--no-foot-lock`. Foot locking's settings were chosen on training
+locking" is `--no-foot-lock`; "base alone" is the ablation `--variation 0`
+(also without foot locking): the keys interpolated as the generator's base,
+the learned root path, keys exact, without the generator's correction. Foot locking's settings were chosen on training
 takes (`EVAL_SPLIT=train`), not on these.
 Ground-truth foot skating by the same measure: {ev['ground_truth_foot_skate']:.3f} units/frame; ground-truth joint acceleration {ev['ground_truth_acceleration']:.3f} units/frame².
 NPSS sums over frequencies, so it grows with the window: compare methods

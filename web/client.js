@@ -1,6 +1,7 @@
 // A Promise API over the synthesis worker, with progress callbacks.
 //   const c = await DeeprepClient.create({ modelBase: '../models/onnx', onProgress });
-//   const r = await c.synthesize({ keyFrames, keyChannels, frames, post: true, dna: [], method: 'model' });
+//   const r = await c.synthesize({ keyFrames, keyChannels, frames, post: true, dna: [], method: 'model', variation: 1 });
+//   (variation, optional, in [0, 2]: share of the generator's correction kept; 0 = the interpolated base)
 export class DeeprepClient {
   static async create({ modelBase, workerUrl = new URL('./worker.js', import.meta.url), onProgress = () => {} } = {}) {
     const c = new DeeprepClient();

@@ -62,7 +62,7 @@ function handle(msg) {
     const kc = new Float32Array(msg.keyChannels);
     const r = msg.method === 'slerp'
       ? model.interpolate(kf, kc, msg.frames)
-      : model.synthesize(kf, kc, msg.frames, msg.post, new Float32Array(msg.dna || []));
+      : model.synthesize(kf, kc, msg.frames, msg.post, new Float32Array(msg.dna || []), msg.variation);
     postMessage({ type: 'progress', id, stage: 'writing BVH', fraction: 0.9 });
     const positions = r.positions;
     postMessage({ type: 'result', id, method: msg.method, bvh: r.bvh, frames: r.frames, times: Array.from(r.times),

@@ -305,6 +305,9 @@ impl Inbetweener {
     /// rows; their root rotation is removed. Empty: the keys serve as DNA.
     /// `postProcess`: make the keys exact, then lock feet in contact with
     /// the floor (`motion::feet`); false returns the networks' raw motion.
+    /// `variation` (optional, in [0, 2], default 1): how much of the
+    /// generator's correction to keep; 0 gives the interpolated base with
+    /// the learned root path.
     pub fn synthesize(
         &self,
         key_frames: &[u32],
@@ -312,6 +315,7 @@ impl Inbetweener {
         frames: usize,
         post_process: bool,
         dna_channels: &[f32],
+        variation: Option<f32>,
     ) -> Result<InbetweenResult, JsError> {
         let keys = keys_from_channels(&self.inner.template, key_frames, key_channels)?;
         let dna = if dna_channels.is_empty() {
@@ -329,6 +333,7 @@ impl Inbetweener {
             dna,
             post_process,
             foot_lock: post_process.then(crate::motion::feet::FootLock::default),
+            variation: variation.unwrap_or(crate::motion::pipeline::Request::VARIATION),
         };
         let now = || js_sys::Date::now();
         let out = self.inner.synthesize(&req, &now).map_err(js_err)?;

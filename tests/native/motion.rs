@@ -221,6 +221,7 @@ fn the_model_pipeline_hits_keys_exactly_after_post_processing() {
         dna: None,
         post_process: true,
         foot_lock: Some(FootLock::default()),
+        variation: Request::VARIATION,
     };
     let out = m.synthesize(&req, &|| 0.0).unwrap();
     assert_eq!(out.motion.len(), 230);
@@ -253,6 +254,7 @@ fn the_model_pipeline_hits_keys_exactly_after_post_processing() {
         dna: None,
         post_process: true,
         foot_lock: Some(FootLock::default()),
+        variation: Request::VARIATION,
     };
     assert!(m
         .synthesize(&far, &|| 0.0)
@@ -264,6 +266,48 @@ fn the_model_pipeline_hits_keys_exactly_after_post_processing() {
         ..req.clone()
     };
     assert!(m.synthesize(&zero, &|| 0.0).is_err());
+    for v in [f32::NAN, -0.1, 2.5] {
+        let bad = Request {
+            variation: v,
+            ..req.clone()
+        };
+        let e = m.synthesize(&bad, &|| 0.0).unwrap_err().to_string();
+        assert!(e.contains("variation"), "{v}: {e}");
+    }
+    // Variation 0 is the base alone: before any post-processing it passes
+    // through the whole-pose keys as RC-FK represents them (their ranges
+    // clamp), and it differs from the generator's output.
+    let raw = |variation| {
+        m.synthesize(
+            &Request {
+                variation,
+                post_process: false,
+                ..req.clone()
+            },
+            &|| 0.0,
+        )
+        .unwrap()
+    };
+    let (base, full) = (raw(0.0), raw(1.0));
+    for k in &keys {
+        let r = k.rotations.as_ref().unwrap();
+        let expect = m.rc.local_rotations(&m.rc.raw_from_rotations(r)).unwrap();
+        for (a, b) in base.motion.rotations[k.frame].iter().zip(&expect) {
+            assert!(geodesic_distance(a, b) < 1e-4, "key at {}", k.frame);
+        }
+    }
+    let moved = base
+        .motion
+        .rotations
+        .iter()
+        .zip(&full.motion.rotations)
+        .flat_map(|(a, b)| a.iter().zip(b))
+        .map(|(a, b)| geodesic_distance(a, b))
+        .fold(0.0f64, f64::max);
+    assert!(
+        moved > 1e-2,
+        "the correction changes the motion ({moved} rad)"
+    );
     let bad_dna = Request {
         dna: Some(vec![vec![0.0; 5]]),
         ..req

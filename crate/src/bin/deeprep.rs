@@ -24,11 +24,13 @@ const USAGE: &str = "usage:
       root position, root 6D, range-constrained Euler angles in radians, clamped to
       Table D.1), little-endian f32; for the training pipeline
   deeprep inbetween --from-bvh CLIP.bvh --keys F1,F2,... -o OUT.bvh
-          [--method model|slerp|zerovel] [--models DIR] [--no-post] [--no-foot-lock]
+          [--method model|slerp|zerovel] [--models DIR] [--no-post] [--no-foot-lock] [--variation V]
       whole-pose keys from those frames of CLIP; OUT has CLIP's length, frame rate and
       skeleton; frames between the first and last key are synthesized, the others copied
-  deeprep inbetween KEYS.json --frames N [-o OUT.bvh] [--models DIR] [--no-post] [--no-foot-lock]
+  deeprep inbetween KEYS.json --frames N [-o OUT.bvh] [--models DIR] [--no-post] [--no-foot-lock] [--variation V]
       --no-post: keys not made exact, feet not locked; --no-foot-lock: keys exact, feet as synthesized
+      --variation V in [0, 2]: share of the generator's correction kept (1, the default: as trained;
+      0: the keys interpolated as the model's base, with the learned root path)
       KEYS.json: {\"keys\": [{\"frame\": F, \"channels\": [...]}, ...]} (BVH channels of the
       model's skeleton); without arguments, runs the bundled example models/examples/keys.json
   deeprep mesh topology ROBOT.glb --out TOPOLOGY.json
@@ -327,6 +329,7 @@ struct Opts {
     models: String,
     post: bool,
     foot_lock: bool,
+    variation: f32,
 }
 
 fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
@@ -340,6 +343,7 @@ fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
         models: "models/onnx".into(),
         post: true,
         foot_lock: true,
+        variation: deeprep::motion::pipeline::Request::VARIATION,
     };
     let mut i = 0;
     while i < args.len() {
@@ -360,6 +364,11 @@ fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
             }
             "-o" | "--out" => o.out = Some(next(i)?),
             "--method" => o.method = next(i)?,
+            "--variation" => {
+                o.variation = next(i)?
+                    .parse()
+                    .map_err(|_| "--variation expects a number in [0, 2]".to_string())?
+            }
             "--models" => o.models = next(i)?,
             "--no-post" => {
                 o.post = false;
@@ -390,6 +399,7 @@ fn synthesize(
     frames: usize,
     post: bool,
     foot_lock: bool,
+    variation: f32,
 ) -> Result<(deeprep::motion::Motion, String), String> {
     use deeprep::motion::{baseline, pipeline};
     match method {
@@ -412,6 +422,7 @@ fn synthesize(
                 dna: None,
                 post_process: post,
                 foot_lock: foot_lock.then(deeprep::motion::feet::FootLock::default),
+                variation,
             };
             let out = m.synthesize(&req, &clock).map_err(|e| e.to_string())?;
             let info = format!(
@@ -468,6 +479,7 @@ fn inbetween(args: &[&str]) -> Result<(), String> {
             last - first + 1,
             o.post,
             o.foot_lock,
+            o.variation,
         )?;
         let synth = motion.to_bvh(&b, b.frame_time).map_err(|e| e.to_string())?;
         let mut out = b.clone();
@@ -527,7 +539,15 @@ fn inbetween(args: &[&str]) -> Result<(), String> {
         .frames
         .or(v["frames"].as_u64().map(|f| f as usize))
         .ok_or("--frames N is required (or \"frames\" in the keys file)")?;
-    let (motion, info) = synthesize(&o.method, &o.models, &keys, frames, o.post, o.foot_lock)?;
+    let (motion, info) = synthesize(
+        &o.method,
+        &o.models,
+        &keys,
+        frames,
+        o.post,
+        o.foot_lock,
+        o.variation,
+    )?;
     let out = motion.to_bvh(tpl, 1.0 / 60.0).map_err(|e| e.to_string())?;
     let path = o.out.unwrap_or_else(|| "inbetween.bvh".into());
     std::fs::write(&path, out.write()).map_err(|e| format!("{path}: {e}"))?;

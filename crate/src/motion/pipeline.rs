@@ -60,6 +60,16 @@ pub struct Request {
     /// After that post-processing, pin feet in contact ([`super::feet`]);
     /// `None`: leave the feet as synthesized. Ignored without post-processing.
     pub foot_lock: Option<FootLock>,
+    /// How much of the generator's correction to keep, in [0, 2]: 1 (the
+    /// default, [`Request::VARIATION`]) is the output as trained; 0 is the
+    /// base it corrects (the keys interpolated, see [`Base`]) with the
+    /// learned root path; in between scales the correction.
+    pub variation: f32,
+}
+
+impl Request {
+    /// The default [`Request::variation`]: the generator as trained.
+    pub const VARIATION: f32 = 1.0;
 }
 
 /// Milliseconds spent in each stage.
@@ -151,6 +161,12 @@ impl TweenModels {
             return Err(Error::Invalid("the requested length is 0 frames".into()));
         }
         validate_keys(&req.keys, req.frames, j)?;
+        if !(0.0..=2.0).contains(&req.variation) {
+            return Err(Error::Invalid(format!(
+                "variation {} is outside [0, 2] (1: the generator as trained, 0: no correction)",
+                req.variation
+            )));
+        }
         for w in req.keys.windows(2) {
             if w[1].frame - w[0].frame > MAX_GAP {
                 return Err(Error::Invalid(format!(
@@ -185,17 +201,22 @@ impl TweenModels {
         dense_rot[..d * n].copy_from_slice(&base);
         let dna = self.dna(req)?;
         let k = dna.len() / p;
-        let out = self.generator.run(&[
+        let mut out = self.generator.run(&[
             TensorF32::new(dense, vec![1, 2 * p, n])?,
             TensorF32::new(dense_rot, vec![1, 2 * d, n])?,
             TensorF32::new(dna, vec![1, k, p])?,
         ])?;
-        let raw = &out[0];
+        let raw = &mut out[0];
         if raw.shape != [1, d, n] {
             return Err(Error::Model(format!(
                 "generator output {:?}, expected [1, {d}, {n}]",
                 raw.shape
             )));
+        }
+        if req.variation != 1.0 {
+            for (r, b) in raw.data.iter_mut().zip(&base) {
+                *r = b + req.variation * (*r - b);
+            }
         }
         let t1 = now_ms();
         let mut rotations = Vec::with_capacity(n);
