@@ -383,7 +383,7 @@ async function synthesize() {
     const t0 = performance.now();
     const r = await state.client.synthesize({
       keyFrames: keys.map((k) => k.frame), keyChannels: keys.flatMap((k) => k.channels),
-      frames: length, post: $('post').checked, dna: dnaChannels(), method,
+      frames: length, post: $('post').checked, dna: dnaChannels(), method, variation: Number($('variation').value),
     });
     state.result = { positions: r.positions, frames: r.frames, bvh: r.bvh, method, times: r.times };
     $('method-badge').textContent = method === 'slerp' ? 'SLERP+LERP interpolation baseline' : 'Generative Tweening model';
@@ -531,6 +531,7 @@ function wireInput() {
   $('undo').addEventListener('click', undo);
   $('redo').addEventListener('click', redo);
   $('synth').addEventListener('click', synthesize);
+  $('variation').addEventListener('input', () => { $('variation-value').textContent = Number($('variation').value).toFixed(2); });
   $('length').addEventListener('change', () => {
     const n = Number($('length').value);
     if (!Number.isInteger(n) || n < 1 || n > 4096) { setStatus('length must be 1..4096 frames', true); return; }

@@ -61,6 +61,21 @@ test('sketch page: 3 keys, 512 frames, drawn, exported, undoable', async () => {
   const stats = await canvasStats(page);
   assert.ok(stats.lit > 0.003 * stats.total, `canvas looks blank: ${JSON.stringify(stats)}`);
   assert.ok(stats.key > 200 && stats.pose > 200, `poses or keys missing: ${JSON.stringify(stats)}`);
+
+  // Variation 0 (no generator correction) gives a different motion through the same keys.
+  const sample = () => page.evaluate(() => Array.from(window.deeprepState.result.positions.subarray(0, 3 * 31 * 512)));
+  const full = await sample();
+  await page.$eval('#variation', (el) => { el.value = '0'; el.dispatchEvent(new Event('input')); });
+  assert.equal(await page.textContent('#variation-value'), '0.00');
+  await page.evaluate(() => { delete document.body.dataset.synthesized; });
+  await page.click('#synth');
+  await page.waitForSelector('body[data-synthesized="512"]', { timeout: 120_000 });
+  const plain = await sample();
+  const diff = Math.max(...full.map((v, i) => Math.abs(v - plain[i])));
+  assert.ok(diff > 1, `variation 0 should change the motion (max diff ${diff})`);
+  assert.deepEqual(errors, []);
+  await page.$eval('#variation', (el) => { el.value = '1'; el.dispatchEvent(new Event('input')); });
+
   await setFrame(380);
   fs.mkdirSync(path.join(ROOT, 'tests/out'), { recursive: true });
   await page.screenshot({ path: path.join(ROOT, 'tests/out/sketch.png') });
