@@ -35,6 +35,9 @@ export interface SynthesisRequest {
   /** Motion DNA poses as channel rows (may be empty). */
   dna?: number[] | Float32Array;
   method?: 'model' | 'slerp';
+  /** Share of the generator's correction kept, in [0, 2] (default 1: as trained;
+   *  0: the keys interpolated as the model's base, with the learned root path). */
+  variation?: number;
 }
 /** IK from joint positions (thesis Sec. 4.4.3). */
 export interface IkSolution {
