@@ -542,3 +542,68 @@ fn foot_locking_pins_a_sliding_foot_and_keeps_keys_exact() {
     assert_eq!(s.legs, 0);
     assert_eq!(m2.rotations, before.rotations);
 }
+
+#[test]
+fn the_cli_takes_motion_dna_and_variation() {
+    let Some(m) = models() else { return };
+    let tmp = std::env::temp_dir().join(format!("deeprep_cli_dna_{}", std::process::id()));
+    std::fs::create_dir_all(&tmp).unwrap();
+    // One DNA pose, the example's first key, as a BVH on the model's skeleton
+    // (by default all of the example's whole-pose keys serve as DNA).
+    let keys: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(root().join("models/examples/keys.json")).unwrap(),
+    )
+    .unwrap();
+    let mut dna = m.template.clone();
+    dna.motion = keys["keys"].as_array().unwrap().first().unwrap()["channels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap() as f32)
+        .collect();
+    let dna_path = tmp.join("dna.bvh");
+    std::fs::write(&dna_path, dna.write()).unwrap();
+    let run = |extra: &[&str], out: &str| {
+        let out = tmp.join(out);
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_deeprep"))
+            .args([
+                "inbetween",
+                root().join("models/examples/keys.json").to_str().unwrap(),
+            ])
+            .args(["--models", root().join("models/onnx").to_str().unwrap()])
+            .args(["--frames", "320", "-o", out.to_str().unwrap()])
+            .args(extra)
+            .output()
+            .unwrap();
+        (
+            o.status.success(),
+            String::from_utf8_lossy(&o.stderr).to_string(),
+            out,
+        )
+    };
+    let (ok, err, plain) = run(&[], "plain.bvh");
+    assert!(ok, "{err}");
+    let (ok, err, with_dna) = run(&["--dna", dna_path.to_str().unwrap()], "dna.bvh");
+    assert!(ok, "{err}");
+    let a = Bvh::parse(&std::fs::read_to_string(&plain).unwrap()).unwrap();
+    let b = Bvh::parse(&std::fs::read_to_string(&with_dna).unwrap()).unwrap();
+    assert_eq!(b.frame_count(), 320);
+    assert!(b.motion.iter().all(|v| v.is_finite()));
+    let moved = a
+        .motion
+        .iter()
+        .zip(&b.motion)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0f32, f32::max);
+    assert!(
+        moved > 1e-3,
+        "the DNA changes the motion (max channel change {moved})"
+    );
+    let (ok, err, _) = run(&["--dna", "no/such.bvh"], "bad.bvh");
+    assert!(!ok && err.contains("no/such.bvh"), "{err}");
+    let (ok, err, _) = run(&["--dna", "3,4"], "bad.bvh");
+    assert!(!ok && err.contains("--from-bvh"), "{err}");
+    let (ok, err, _) = run(&["--variation", "5"], "bad.bvh");
+    assert!(!ok && err.contains("variation"), "{err}");
+    std::fs::remove_dir_all(&tmp).ok();
+}

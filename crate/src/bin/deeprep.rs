@@ -25,12 +25,15 @@ const USAGE: &str = "usage:
       Table D.1), little-endian f32; for the training pipeline
   deeprep inbetween --from-bvh CLIP.bvh --keys F1,F2,... -o OUT.bvh
           [--method model|slerp|zerovel] [--models DIR] [--no-post] [--no-foot-lock] [--variation V]
+          [--dna F1,F2,...|DNA.bvh]
       whole-pose keys from those frames of CLIP; OUT has CLIP's length, frame rate and
       skeleton; frames between the first and last key are synthesized, the others copied
-  deeprep inbetween KEYS.json --frames N [-o OUT.bvh] [--models DIR] [--no-post] [--no-foot-lock] [--variation V]
+  deeprep inbetween KEYS.json --frames N [-o OUT.bvh] [--models DIR] [--no-post] [--no-foot-lock] [--variation V] [--dna DNA.bvh]
       --no-post: keys not made exact, feet not locked; --no-foot-lock: keys exact, feet as synthesized
       --variation V in [0, 2]: share of the generator's correction kept (1, the default: as trained;
       0: the keys interpolated as the model's base, with the learned root path)
+      --dna: Motion DNA poses (Sec. 5.2.5), frames of CLIP or every frame of a BVH on the
+      model's skeleton; without it the whole-pose keys serve
       KEYS.json: {\"keys\": [{\"frame\": F, \"channels\": [...]}, ...]} (BVH channels of the
       model's skeleton); without arguments, runs the bundled example models/examples/keys.json
   deeprep mesh topology ROBOT.glb --out TOPOLOGY.json
@@ -330,6 +333,7 @@ struct Opts {
     post: bool,
     foot_lock: bool,
     variation: f32,
+    dna: Option<String>,
 }
 
 fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
@@ -344,6 +348,7 @@ fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
         post: true,
         foot_lock: true,
         variation: deeprep::motion::pipeline::Request::VARIATION,
+        dna: None,
     };
     let mut i = 0;
     while i < args.len() {
@@ -364,6 +369,7 @@ fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
             }
             "-o" | "--out" => o.out = Some(next(i)?),
             "--method" => o.method = next(i)?,
+            "--dna" => o.dna = Some(next(i)?),
             "--variation" => {
                 o.variation = next(i)?
                     .parse()
@@ -393,16 +399,13 @@ fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
 }
 
 fn synthesize(
-    method: &str,
-    models: &str,
+    o: &Opts,
     keys: &[deeprep::motion::Keyframe],
     frames: usize,
-    post: bool,
-    foot_lock: bool,
-    variation: f32,
+    dna: Option<Vec<Vec<f32>>>,
 ) -> Result<(deeprep::motion::Motion, String), String> {
     use deeprep::motion::{baseline, pipeline};
-    match method {
+    match o.method.as_str() {
         "slerp" => Ok((
             baseline::slerp_lerp(keys, frames).map_err(|e| e.to_string())?,
             String::new(),
@@ -412,17 +415,17 @@ fn synthesize(
             String::new(),
         )),
         "model" => {
-            let m = pipeline::TweenModels::load_dir(std::path::Path::new(models))
+            let m = pipeline::TweenModels::load_dir(std::path::Path::new(&o.models))
                 .map_err(|e| e.to_string())?;
             let start = std::time::Instant::now();
             let clock = move || start.elapsed().as_secs_f64() * 1000.0;
             let req = pipeline::Request {
                 keys: keys.to_vec(),
                 frames,
-                dna: None,
-                post_process: post,
-                foot_lock: foot_lock.then(deeprep::motion::feet::FootLock::default),
-                variation,
+                dna,
+                post_process: o.post,
+                foot_lock: o.foot_lock.then(deeprep::motion::feet::FootLock::default),
+                variation: o.variation,
             };
             let out = m.synthesize(&req, &clock).map_err(|e| e.to_string())?;
             let info = format!(
@@ -444,6 +447,44 @@ fn synthesize(
             "unknown --method '{other}' (model, slerp, zerovel)"
         )),
     }
+}
+
+/// Motion DNA poses from `--dna`: frames `F1,F2,...` of the `--from-bvh`
+/// clip, or every frame of a BVH file on the model's skeleton.
+fn dna_poses(
+    o: &Opts,
+    clip: Option<&deeprep::skeleton::Bvh>,
+) -> Result<Option<Vec<Vec<f32>>>, String> {
+    use deeprep::motion::{dna_pose, Keyframe};
+    let Some(spec) = &o.dna else {
+        return Ok(None);
+    };
+    let frames: Option<Vec<usize>> = spec.split(',').map(|s| s.trim().parse().ok()).collect();
+    let (bvh, frames) = match frames {
+        Some(f) => {
+            let b = clip.ok_or(
+                "--dna F1,F2,... takes frames of the --from-bvh clip; give a BVH file otherwise",
+            )?;
+            (b.clone(), f)
+        }
+        None => {
+            let b = load(spec)?;
+            let n = b.frame_count();
+            (b, (0..n).collect())
+        }
+    };
+    if frames.is_empty() {
+        return Err(format!("--dna {spec}: no poses"));
+    }
+    frames
+        .iter()
+        .map(|&f| {
+            Keyframe::from_bvh(&bvh, f, 0)
+                .map(|k| dna_pose(&k))
+                .map_err(|e| format!("--dna {spec}: frame {f}: {e}"))
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .map(Some)
 }
 
 fn inbetween(args: &[&str]) -> Result<(), String> {
@@ -472,15 +513,8 @@ fn inbetween(args: &[&str]) -> Result<(), String> {
             .map(|&f| Keyframe::from_bvh(&b, f, f.saturating_sub(first)))
             .collect::<Result<_, _>>()
             .map_err(|e| e.to_string())?;
-        let (motion, info) = synthesize(
-            &o.method,
-            &o.models,
-            &keys,
-            last - first + 1,
-            o.post,
-            o.foot_lock,
-            o.variation,
-        )?;
+        let dna = dna_poses(&o, Some(&b))?;
+        let (motion, info) = synthesize(&o, &keys, last - first + 1, dna)?;
         let synth = motion.to_bvh(&b, b.frame_time).map_err(|e| e.to_string())?;
         let mut out = b.clone();
         let c = b.channel_count();
@@ -539,15 +573,8 @@ fn inbetween(args: &[&str]) -> Result<(), String> {
         .frames
         .or(v["frames"].as_u64().map(|f| f as usize))
         .ok_or("--frames N is required (or \"frames\" in the keys file)")?;
-    let (motion, info) = synthesize(
-        &o.method,
-        &o.models,
-        &keys,
-        frames,
-        o.post,
-        o.foot_lock,
-        o.variation,
-    )?;
+    let dna = dna_poses(&o, None)?;
+    let (motion, info) = synthesize(&o, &keys, frames, dna)?;
     let out = motion.to_bvh(tpl, 1.0 / 60.0).map_err(|e| e.to_string())?;
     let path = o.out.unwrap_or_else(|| "inbetween.bvh".into());
     std::fs::write(&path, out.write()).map_err(|e| format!("{path}: {e}"))?;
