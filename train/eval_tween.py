@@ -56,10 +56,19 @@ METHODS = os.environ.get("EVAL_METHODS", "zerovel,slerp,model,model-nolock,base"
 METHOD_ARGS = {"model-nolock": ["--method", "model", "--no-foot-lock"],
                # "base": the ablation without the generator's correction (--variation 0):
                # the keys interpolated as the model's base, the learned root path, keys exact
-               "base": ["--method", "model", "--no-foot-lock", "--variation", "0"]}
+               "base": ["--method", "model", "--no-foot-lock", "--variation", "0"],
+               # diagnostics: the same without post-processing (keys not made exact)
+               "model-nopost": ["--method", "model", "--no-post"],
+               "base-nopost": ["--method", "model", "--no-post", "--variation", "0"]}
 # EVAL_SPLIT=train scores training takes instead (for choosing settings
 # without looking at validation takes) and writes docs/inbetween_eval_train.json.
 SPLIT = os.environ.get("EVAL_SPLIT", "val")
+# EVAL_DNA=gt (diagnostic, leaks the ground truth): the model methods get as
+# Motion DNA the clip's own representative frames (largest local rotation
+# change, >= 30 frames apart, one per 180 frames), as in training, instead of
+# the keys, which is what inference uses without DNA. Measures the
+# train/inference mismatch of the DNA input; never a result to report as the model's.
+DNA_GT = os.environ.get("EVAL_DNA") == "gt"
 # EVAL_HYBRIDS=1: also score the model's output with one channel group taken
 # from SLERP+LERP's, to show which part of the model costs what.
 HYBRIDS = {f"model, slerp {g}": g for g in ["root position", "root rotation", "joints", "spine", "arms", "hands", "legs"]} \
@@ -255,6 +264,21 @@ def blend_fk(bvh, a, b, w):
     return fk_from_local(bvh, (1 - w) * ta + w * tb, loc)
 
 
+def rep_frames(bvh, k):
+    """Frames of largest local rotation change from the adjacent frames,
+    >= 30 apart (train_tween.rep_frames, on quaternions instead of RC angles)."""
+    q = mat_to_quat(local_fk(bvh)[1][:, 1:]).reshape(len(bvh[4]), -1)
+    change = np.zeros(len(q))
+    change[1:-1] = np.linalg.norm(q[2:] - q[:-2], axis=1)
+    picked = []
+    for i in np.argsort(-change):
+        if all(abs(int(i) - j) >= 30 for j in picked):
+            picked.append(int(i))
+        if len(picked) == k:
+            break
+    return sorted(picked)
+
+
 def cubic_fk(bvh, keys):
     """Diagnostic baseline: uniform Catmull-Rom splines through the keys'
     root positions and (sign-aligned, renormalized) local joint quaternions."""
@@ -316,15 +340,18 @@ def main():
                 gpos, grot = global_fk(gt)
                 feet = [gt[0].index(f) for f in FEET]
                 floor = np.median(gpos[:, :, 1].min(1))
+                dna_args = ["--dna", ",".join(map(str, rep_frames(gt, max(1, n // 180))))] if DNA_GT else []
                 for g in GAPS:
                     keys = list(range(10, n - 1, g))
                     for m in METHODS:
                         out = os.path.join(tmp, f"out_{m}_{g}.bvh")
                         r = subprocess.run([cli(), "inbetween", "--from-bvh", clip, "--keys", ",".join(map(str, keys)),
-                                            "-o", out] + METHOD_ARGS.get(m, ["--method", m]), capture_output=True, text=True)
+                                            "-o", out] + METHOD_ARGS.get(m, ["--method", m])
+                                           + (dna_args if m.startswith(("model", "base")) else []),
+                                           capture_output=True, text=True)
                         if r.returncode != 0:
                             sys.exit(f"{m} on {clip}: {r.stderr}")
-                        if m.startswith("model"):
+                        if m.startswith(("model", "base")):
                             nums = [float(x) for x in re.findall(r"root ([0-9.]+), joints ([0-9.]+)", r.stderr)[0] + re.findall(r"root ([0-9.]+), joints ([0-9.]+)", r.stderr)[1]]
                             acc[(m, g)]["keyraw"].append(nums[:2])
                             acc[(m, g)]["key"].append(nums[2:])
