@@ -24,6 +24,20 @@ t52 = path["training"]["table_5_2_validation"]
 gaps = [30, 60, 120, 300]
 npss_wins = [g for g in gaps if ev[f"model@{g}"]["NPSS"] < ev[f"slerp@{g}"]["NPSS"]]
 l2p_wins = [g for g in gaps if ev[f"model@{g}"]["L2P"] < ev[f"slerp@{g}"]["L2P"]]
+def wins(m, metric, ref="slerp"):
+    return [g for g in gaps if f"{m}@{g}" in ev and ev[f"{m}@{g}"][metric] < ev[f"{ref}@{g}"][metric]]
+
+
+ablation = ""
+if "base@30" in ev:
+    worse = [f"{metric} at {g}" for metric in ("L2P", "NPSS") for g in gaps
+             if ev[f"model-nolock@{g}"][metric] > ev[f"base@{g}"][metric]]
+    ablation = (f"The ablation matters: the base alone beats SLERP+LERP on NPSS at gaps "
+                f"{', '.join(map(str, wins('base', 'NPSS'))) or 'none'} and on L2P at "
+                f"{', '.join(map(str, wins('base', 'L2P'))) or 'none'}, and the generator's correction, "
+                f"as trained so far, is worse than its own base on {len(worse)} of 8 L2P/NPSS cells "
+                f"({', '.join(worse) or 'none'}; without foot locking on both sides). It lowers the training loss "
+                f"but not these metrics (train/README.md, session 7).\n")
 goal = len(npss_wins) == 4 and 30 in l2p_wins and 60 in l2p_wins
 verdict = ("beats SLERP+LERP on NPSS at every gap and on L2P at 30 and 60 frames" if goal else
            f"**weak**: beats SLERP+LERP on NPSS at gaps: {', '.join(map(str, npss_wins)) or 'none'}; on L2P at gaps: {', '.join(map(str, l2p_wins)) or 'none'} (see below)")
@@ -65,7 +79,7 @@ locking" is `--no-foot-lock`; "base alone" is the ablation `--variation 0`
 (also without foot locking): the keys interpolated as the generator's base,
 the learned root path, keys exact, without the generator's correction. Foot locking's settings were chosen on training
 takes (`EVAL_SPLIT=train`), not on these.
-Ground-truth foot skating by the same measure: {ev['ground_truth_foot_skate']:.3f} units/frame; ground-truth joint acceleration {ev['ground_truth_acceleration']:.3f} units/frame².
+{ablation}Ground-truth foot skating by the same measure: {ev['ground_truth_foot_skate']:.3f} units/frame; ground-truth joint acceleration {ev['ground_truth_acceleration']:.3f} units/frame².
 NPSS sums over frequencies, so it grows with the window: compare methods
 within a gap. Verdict against the target (beat SLERP+LERP on NPSS at every
 gap and on L2P at 30 and 60): {"met" if goal else "not met"}. The model was
