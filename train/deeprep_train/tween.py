@@ -224,16 +224,24 @@ def dense_input(pose, mask, n_frames):
     return torch.cat([val, dist / DT_NORM], dim=2).transpose(1, 2)
 
 
+def _given_around(mask):
+    """Per frame and channel: the nearest frame at or before / at or after it
+    where the channel is given (-10^9 / 10^9 where none). mask: [B, N, R]."""
+    B, N, R = mask.shape
+    idx = torch.arange(N).view(1, N, 1).expand(B, N, R)
+    big = 10 ** 9
+    prev = torch.cummax(torch.where(mask, idx, torch.full_like(idx, -big)), dim=1).values
+    nxt = torch.flip(torch.cummin(torch.flip(torch.where(mask, idx, torch.full_like(idx, big)), [1]), dim=1).values, [1])
+    return idx, prev, nxt
+
+
 def interp_channels(values, mask):
     """Per channel, linear interpolation between the previous and the next
     frame where the channel is given (held before the first and after the
     last; 0 where never given). values, mask: [B, N, R] -> [B, N, R].
     Mirrors interp_channels in crate/src/motion/dense.rs."""
-    B, N, R = values.shape
-    idx = torch.arange(N).view(1, N, 1).expand(B, N, R)
-    big = 10 ** 9
-    prev = torch.cummax(torch.where(mask, idx, torch.full_like(idx, -big)), dim=1).values
-    nxt = torch.flip(torch.cummin(torch.flip(torch.where(mask, idx, torch.full_like(idx, big)), [1]), dim=1).values, [1])
+    N = values.shape[1]
+    idx, prev, nxt = _given_around(mask)
     has_p, has_n = prev >= 0, nxt < N
     pa, nb = prev.clamp(0, N - 1), nxt.clamp(0, N - 1)
     va, vb = torch.gather(values, 1, pa), torch.gather(values, 1, nb)
@@ -251,11 +259,9 @@ def spline_channels(values, mask):
     the keys are evenly spaced, C1 otherwise. Held before the first and after
     the last given frame; 0 where never given. values, mask: [B, N, R] -> [B, N, R].
     Mirrors spline_channels in crate/src/motion/dense.rs."""
-    B, N, R = values.shape
-    idx = torch.arange(N).view(1, N, 1).expand(B, N, R)
+    N = values.shape[1]
     big = 10 ** 9
-    prev = torch.cummax(torch.where(mask, idx, torch.full_like(idx, -big)), dim=1).values
-    nxt = torch.flip(torch.cummin(torch.flip(torch.where(mask, idx, torch.full_like(idx, big)), [1]), dim=1).values, [1])
+    idx, prev, nxt = _given_around(mask)
     # the given frame strictly before / after each frame
     prev_s = torch.cat([torch.full_like(prev[:, :1], -big), prev[:, :-1]], dim=1)
     nxt_s = torch.cat([nxt[:, 1:], torch.full_like(nxt[:, :1], big)], dim=1)

@@ -97,40 +97,55 @@ pub fn dense_channels(
     out
 }
 
+/// Fills `[width, frames]`: per channel, `curve` built from the `(frame,
+/// value)` rows that give the channel, sampled at every frame; 0 where no
+/// row gives it.
+fn per_channel<C: Fn(f64) -> f64>(
+    rows: &[(usize, Vec<f32>, Vec<bool>)],
+    width: usize,
+    frames: usize,
+    curve: impl Fn(Vec<(f64, f64)>) -> C,
+) -> Vec<f32> {
+    let mut out = vec![0.0f32; width * frames];
+    for c in 0..width {
+        let keys: Vec<(f64, f64)> = rows
+            .iter()
+            .filter(|r| r.2[c])
+            .map(|r| (r.0 as f64, r.1[c] as f64))
+            .collect();
+        if keys.is_empty() {
+            continue;
+        }
+        let f = curve(keys);
+        for (t, v) in out[c * frames..(c + 1) * frames].iter_mut().enumerate() {
+            *v = f(t as f64) as f32;
+        }
+    }
+    out
+}
+
 /// Per channel, linear interpolation between the previous and the next row
 /// that gives the channel (held before the first and after the last; 0
-/// where no row gives it). Returns `[width, frames]`. Mirrors
-/// `interp_channels` in train/deeprep_train/tween.py.
+/// where no row gives it). Rows must be sorted by frame. Returns `[width,
+/// frames]`. Mirrors `interp_channels` in train/deeprep_train/tween.py.
 pub fn interp_channels(
     rows: &[(usize, Vec<f32>, Vec<bool>)],
     width: usize,
     frames: usize,
 ) -> Vec<f32> {
-    let mut out = vec![0.0f32; width * frames];
-    for c in 0..width {
-        let given: Vec<usize> = (0..rows.len()).filter(|&i| rows[i].2[c]).collect();
-        if given.is_empty() {
-            continue;
-        }
-        let row = &mut out[c * frames..(c + 1) * frames];
-        let mut g = 0;
-        for (t, v) in row.iter_mut().enumerate() {
-            while g + 1 < given.len() && rows[given[g + 1]].0 <= t {
-                g += 1;
+    per_channel(rows, width, frames, |keys| {
+        move |t: f64| {
+            let b = keys.partition_point(|k| k.0 <= t);
+            if b == 0 {
+                return keys[0].1; // before the first row
             }
-            let a = &rows[given[g]];
-            *v = if a.0 > t {
-                a.1[c] // before the first row
-            } else if let Some(&bi) = given.get(g + 1) {
-                let b = &rows[bi];
-                let w = (t - a.0) as f32 / (b.0 - a.0) as f32;
-                a.1[c] + w * (b.1[c] - a.1[c])
-            } else {
-                a.1[c] // after the last row
-            };
+            if b == keys.len() {
+                return keys[b - 1].1; // at or after the last row
+            }
+            let ((ta, va), (tb, vb)) = (keys[b - 1], keys[b]);
+            va + (t - ta) / (tb - ta) * (vb - va)
         }
-    }
-    out
+    })
 }
 
 /// Per channel, a [`KeySpline`] through the rows that give the channel
@@ -143,22 +158,10 @@ pub fn spline_channels(
     width: usize,
     frames: usize,
 ) -> Vec<f32> {
-    let mut out = vec![0.0f32; width * frames];
-    for c in 0..width {
-        let keys: Vec<(f64, f64)> = rows
-            .iter()
-            .filter(|r| r.2[c])
-            .map(|r| (r.0 as f64, r.1[c] as f64))
-            .collect();
-        if keys.is_empty() {
-            continue;
-        }
-        let spline = KeySpline::new(keys);
-        for (t, v) in out[c * frames..(c + 1) * frames].iter_mut().enumerate() {
-            *v = spline.at(t as f64) as f32;
-        }
-    }
-    out
+    per_channel(rows, width, frames, |keys| {
+        let s = KeySpline::new(keys);
+        move |t| s.at(t)
+    })
 }
 
 /// What the generator corrects between whole-pose keys (the manifest's
