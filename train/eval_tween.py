@@ -60,6 +60,13 @@ METHOD_ARGS = {"model-nolock": ["--method", "model", "--no-foot-lock"],
                # diagnostics: the same without post-processing (keys not made exact)
                "model-nopost": ["--method", "model", "--no-post"],
                "base-nopost": ["--method", "model", "--no-post", "--variation", "0"]}
+
+
+def runs_model(m):
+    """Whether method m runs the in-betweening networks (CLI --method model)."""
+    return METHOD_ARGS.get(m, ["--method", m])[1] == "model"
+
+
 # EVAL_SPLIT=train scores training takes instead (for choosing settings
 # without looking at validation takes) and writes docs/inbetween_eval_train.json.
 SPLIT = os.environ.get("EVAL_SPLIT", "val")
@@ -347,11 +354,11 @@ def main():
                         out = os.path.join(tmp, f"out_{m}_{g}.bvh")
                         r = subprocess.run([cli(), "inbetween", "--from-bvh", clip, "--keys", ",".join(map(str, keys)),
                                             "-o", out] + METHOD_ARGS.get(m, ["--method", m])
-                                           + (dna_args if m.startswith(("model", "base")) else []),
+                                           + (dna_args if runs_model(m) else []),
                                            capture_output=True, text=True)
                         if r.returncode != 0:
                             sys.exit(f"{m} on {clip}: {r.stderr}")
-                        if m.startswith(("model", "base")):
+                        if runs_model(m):
                             nums = [float(x) for x in re.findall(r"root ([0-9.]+), joints ([0-9.]+)", r.stderr)[0] + re.findall(r"root ([0-9.]+), joints ([0-9.]+)", r.stderr)[1]]
                             acc[(m, g)]["keyraw"].append(nums[:2])
                             acc[(m, g)]["key"].append(nums[2:])

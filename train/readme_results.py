@@ -22,11 +22,14 @@ except FileNotFoundError:
 ev = json.load(open(os.path.join(ROOT, "docs", "inbetween_eval.json")))
 t52 = path["training"]["table_5_2_validation"]
 gaps = [30, 60, 120, 300]
-npss_wins = [g for g in gaps if ev[f"model@{g}"]["NPSS"] < ev[f"slerp@{g}"]["NPSS"]]
-l2p_wins = [g for g in gaps if ev[f"model@{g}"]["L2P"] < ev[f"slerp@{g}"]["L2P"]]
+
+
 def wins(m, metric, ref="slerp"):
+    """The gaps where method m beats ref on metric."""
     return [g for g in gaps if f"{m}@{g}" in ev and ev[f"{m}@{g}"][metric] < ev[f"{ref}@{g}"][metric]]
 
+
+npss_wins, l2p_wins = wins("model", "NPSS"), wins("model", "L2P")
 
 ablation = ""
 if "base@30" in ev:

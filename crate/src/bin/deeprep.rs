@@ -460,17 +460,17 @@ fn dna_poses(
         return Ok(None);
     };
     let frames: Option<Vec<usize>> = spec.split(',').map(|s| s.trim().parse().ok()).collect();
+    let file;
     let (bvh, frames) = match frames {
-        Some(f) => {
-            let b = clip.ok_or(
+        Some(f) => (
+            clip.ok_or(
                 "--dna F1,F2,... takes frames of the --from-bvh clip; give a BVH file otherwise",
-            )?;
-            (b.clone(), f)
-        }
+            )?,
+            f,
+        ),
         None => {
-            let b = load(spec)?;
-            let n = b.frame_count();
-            (b, (0..n).collect())
+            file = load(spec)?;
+            (&file, (0..file.frame_count()).collect())
         }
     };
     if frames.is_empty() {
@@ -479,7 +479,7 @@ fn dna_poses(
     frames
         .iter()
         .map(|&f| {
-            Keyframe::from_bvh(&bvh, f, 0)
+            Keyframe::from_bvh(bvh, f, 0)
                 .map(|k| dna_pose(&k))
                 .map_err(|e| format!("--dna {spec}: frame {f}: {e}"))
         })

@@ -193,8 +193,8 @@ impl TweenModels {
                     .map(|r| (k.frame, self.rc.raw_from_rotations(r), vec![true; d]))
             })
             .collect();
-        // Values: the keys' raw values interpolated between keys (as the
-        // model was trained: linearly or on a spline); then the distance
+        // Values: the keys' raw values interpolated between keys as the
+        // model was trained (the manifest's base); then the distance
         // transform, as in the dense format.
         let mut dense_rot = dense_channels(&rot_rows, d, n, &self.norm);
         let base = base_channels(&rot_rows, d, n, self.base);

@@ -1,6 +1,5 @@
-//! A C1 cubic through scalar keys, used for the generator's spline base
-//! ([`super::dense::spline_channels`]) and for spreading root key errors in
-//! post-processing ([`super::post`]).
+//! A C1 cubic through scalar keys, used for the generator's spline bases
+//! ([`super::dense::spline_channels`]).
 
 /// Cubic Hermite spline through `(time, value)` keys sorted by time, with
 /// finite-difference tangents `(v[k+1] - v[k-1]) / (t[k+1] - t[k-1])` and
