@@ -605,5 +605,58 @@ fn the_cli_takes_motion_dna_and_variation() {
     assert!(!ok && err.contains("--from-bvh"), "{err}");
     let (ok, err, _) = run(&["--variation", "5"], "bad.bvh");
     assert!(!ok && err.contains("variation"), "{err}");
+
+    // --seed: DNA drawn from a longer clip (the example's keys joined by
+    // linear channel ramps, 400 frames each), repeatable per seed
+    let ks: Vec<Vec<f32>> = keys["keys"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|k| {
+            k["channels"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_f64().unwrap() as f32)
+                .collect()
+        })
+        .collect();
+    let mut clip = m.template.clone();
+    clip.motion = ks
+        .windows(2)
+        .flat_map(|w| {
+            (0..400).flat_map(move |t| {
+                let s = t as f32 / 400.0;
+                w[0].iter()
+                    .zip(&w[1])
+                    .map(move |(a, b)| a + (b - a) * s)
+                    .collect::<Vec<_>>()
+            })
+        })
+        .collect();
+    let clip_path = tmp.join("dna_clip.bvh");
+    std::fs::write(&clip_path, clip.write()).unwrap();
+    let clip_arg = clip_path.to_str().unwrap();
+    let seeded: Vec<Vec<f32>> = [1, 1, 2, 3, 4]
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let name = format!("seed{i}.bvh");
+            let (ok, err, out) = run(&["--dna", clip_arg, "--seed", &s.to_string()], &name);
+            assert!(ok, "{err}");
+            Bvh::parse(&std::fs::read_to_string(out).unwrap())
+                .unwrap()
+                .motion
+        })
+        .collect();
+    assert_eq!(seeded[0], seeded[1], "equal seeds give equal motion");
+    assert!(
+        seeded[2..].iter().any(|m| *m != seeded[0]),
+        "other seeds draw other DNA"
+    );
+    let (ok, err, _) = run(&["--seed", "1"], "bad.bvh");
+    assert!(!ok && err.contains("--dna"), "{err}");
+    let (ok, err, _) = run(&["--dna", clip_arg, "--seed", "x"], "bad.bvh");
+    assert!(!ok && err.contains("--seed"), "{err}");
     std::fs::remove_dir_all(&tmp).ok();
 }

@@ -25,15 +25,17 @@ const USAGE: &str = "usage:
       Table D.1), little-endian f32; for the training pipeline
   deeprep inbetween --from-bvh CLIP.bvh --keys F1,F2,... -o OUT.bvh
           [--method model|slerp|zerovel] [--models DIR] [--no-post] [--no-foot-lock] [--variation V]
-          [--dna F1,F2,...|DNA.bvh]
+          [--dna F1,F2,...|DNA.bvh [--seed S]]
       whole-pose keys from those frames of CLIP; OUT has CLIP's length, frame rate and
       skeleton; frames between the first and last key are synthesized, the others copied
-  deeprep inbetween KEYS.json --frames N [-o OUT.bvh] [--models DIR] [--no-post] [--no-foot-lock] [--variation V] [--dna DNA.bvh]
+  deeprep inbetween KEYS.json --frames N [-o OUT.bvh] [--models DIR] [--no-post] [--no-foot-lock] [--variation V] [--dna DNA.bvh [--seed S]]
       --no-post: keys not made exact, feet not locked; --no-foot-lock: keys exact, feet as synthesized
       --variation V in [0, 2]: share of the generator's correction kept (1, the default: as trained;
       0: the keys interpolated as the model's base, with the learned root path)
       --dna: Motion DNA poses (Sec. 5.2.5), frames of CLIP or every frame of a BVH on the
       model's skeleton; without it the whole-pose keys serve
+      --seed S (with --dna DNA.bvh): DNA drawn as in training, the representative frames
+      (largest rotation change) of a window of DNA.bvh that S places; equal seeds, equal motion
       KEYS.json: {\"keys\": [{\"frame\": F, \"channels\": [...]}, ...]} (BVH channels of the
       model's skeleton); without arguments, runs the bundled example models/examples/keys.json
   deeprep mesh topology ROBOT.glb --out TOPOLOGY.json
@@ -334,6 +336,7 @@ struct Opts {
     foot_lock: bool,
     variation: f32,
     dna: Option<String>,
+    seed: Option<u64>,
 }
 
 fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
@@ -349,6 +352,7 @@ fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
         foot_lock: true,
         variation: deeprep::motion::pipeline::Request::VARIATION,
         dna: None,
+        seed: None,
     };
     let mut i = 0;
     while i < args.len() {
@@ -370,6 +374,13 @@ fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
             "-o" | "--out" => o.out = Some(next(i)?),
             "--method" => o.method = next(i)?,
             "--dna" => o.dna = Some(next(i)?),
+            "--seed" => {
+                o.seed = Some(
+                    next(i)?
+                        .parse()
+                        .map_err(|_| "--seed expects a non-negative integer".to_string())?,
+                )
+            }
             "--variation" => {
                 o.variation = next(i)?
                     .parse()
@@ -450,14 +461,20 @@ fn synthesize(
 }
 
 /// Motion DNA poses from `--dna`: frames `F1,F2,...` of the `--from-bvh`
-/// clip, or every frame of a BVH file on the model's skeleton.
+/// clip, or every frame of a BVH file on the model's skeleton; with
+/// `--seed`, the representative frames of a seeded window of that file
+/// (`motion::dna::pick_dna_frames`) for an output of `out_frames` frames.
 fn dna_poses(
     o: &Opts,
     clip: Option<&deeprep::skeleton::Bvh>,
+    out_frames: usize,
 ) -> Result<Option<Vec<Vec<f32>>>, String> {
     use deeprep::motion::{dna_pose, Keyframe};
     let Some(spec) = &o.dna else {
-        return Ok(None);
+        return match o.seed {
+            Some(_) => Err("--seed draws Motion DNA from a clip: give --dna DNA.bvh (without DNA the motion is deterministic)".into()),
+            None => Ok(None),
+        };
     };
     let frames: Option<Vec<usize>> = spec.split(',').map(|s| s.trim().parse().ok()).collect();
     let file;
@@ -470,9 +487,25 @@ fn dna_poses(
         ),
         None => {
             file = load(spec)?;
-            (&file, (0..file.frame_count()).collect())
+            let all: Vec<usize> = (0..file.frame_count()).collect();
+            let picked = match o.seed {
+                Some(seed) => {
+                    let poses = all
+                        .iter()
+                        .map(|&f| Keyframe::from_bvh(&file, f, f))
+                        .collect::<Result<Vec<_>, _>>()
+                        .map_err(|e| format!("--dna {spec}: {e}"))?;
+                    deeprep::motion::dna::pick_dna_frames(&poses, out_frames, seed)
+                        .map_err(|e| format!("--dna {spec}: {e}"))?
+                }
+                None => all,
+            };
+            (&file, picked)
         }
     };
+    if o.seed.is_some() && clip.is_some_and(|c| std::ptr::eq(c, bvh)) {
+        return Err("--seed draws DNA frames from a --dna DNA.bvh file; with --dna F1,F2,... the frames are already chosen".into());
+    }
     if frames.is_empty() {
         return Err(format!("--dna {spec}: no poses"));
     }
@@ -513,7 +546,7 @@ fn inbetween(args: &[&str]) -> Result<(), String> {
             .map(|&f| Keyframe::from_bvh(&b, f, f.saturating_sub(first)))
             .collect::<Result<_, _>>()
             .map_err(|e| e.to_string())?;
-        let dna = dna_poses(&o, Some(&b))?;
+        let dna = dna_poses(&o, Some(&b), last - first + 1)?;
         let (motion, info) = synthesize(&o, &keys, last - first + 1, dna)?;
         let synth = motion.to_bvh(&b, b.frame_time).map_err(|e| e.to_string())?;
         let mut out = b.clone();
@@ -573,7 +606,7 @@ fn inbetween(args: &[&str]) -> Result<(), String> {
         .frames
         .or(v["frames"].as_u64().map(|f| f as usize))
         .ok_or("--frames N is required (or \"frames\" in the keys file)")?;
-    let dna = dna_poses(&o, None)?;
+    let dna = dna_poses(&o, None, frames)?;
     let (motion, info) = synthesize(&o, &keys, frames, dna)?;
     let out = motion.to_bvh(tpl, 1.0 / 60.0).map_err(|e| e.to_string())?;
     let path = o.out.unwrap_or_else(|| "inbetween.bvh".into());

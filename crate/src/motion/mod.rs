@@ -11,6 +11,7 @@
 
 pub mod baseline;
 pub mod dense;
+pub mod dna;
 pub mod feet;
 pub mod pipeline;
 pub mod post;

@@ -1,0 +1,160 @@
+//! Seeded Motion DNA (thesis Sec. 5.2.5): which frames of a DNA source clip
+//! steer the generator.
+//!
+//! Training feeds each window's *representative frames*: the frames of
+//! largest joint-rotation change from their neighbours, at least
+//! [`MIN_SPACING`] frames apart, one per [`FRAMES_PER_DNA`] frames of the
+//! window (`train/train_tween.py`, `rep_frames`). [`pick_dna_frames`] does
+//! the same on a window of the source clip chosen by a seed, so a seed gives
+//! a different but repeatable style, drawn the way training drew it.
+
+use super::Keyframe;
+use crate::error::{Error, Result};
+use crate::rng::Rng;
+
+/// Training's representative-frame count: one per this many frames.
+pub const FRAMES_PER_DNA: usize = 180;
+/// Minimum spacing of representative frames, in frames.
+pub const MIN_SPACING: usize = 30;
+
+/// How many DNA frames training used for a window of `frames` frames.
+pub fn dna_count(frames: usize) -> usize {
+    (frames / FRAMES_PER_DNA).max(1)
+}
+
+/// Representative frames of `poses` (whole-pose keys with rotations, one
+/// per frame): the `count` frames of largest change of the non-root local
+/// rotations between their two neighbours, at least [`MIN_SPACING`] apart,
+/// in frame order. Fewer when the clip is too short to space them.
+pub fn representative_frames(poses: &[Keyframe], count: usize) -> Result<Vec<usize>> {
+    let rots = poses
+        .iter()
+        .enumerate()
+        .map(|(i, k)| {
+            k.rotations
+                .as_ref()
+                .ok_or_else(|| Error::Invalid(format!("DNA frame {i} has no rotations")))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let n = rots.len();
+    let mut change = vec![0.0f64; n];
+    for t in 1..n.saturating_sub(1) {
+        let (a, b) = (rots[t - 1], rots[t + 1]);
+        change[t] = a
+            .iter()
+            .zip(b.iter())
+            .skip(1)
+            .map(|(ra, rb)| {
+                ra.iter()
+                    .flatten()
+                    .zip(rb.iter().flatten())
+                    .map(|(x, y)| (x - y) * (x - y))
+                    .sum::<f64>()
+            })
+            .sum::<f64>()
+            .sqrt();
+    }
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&i, &j| change[j].total_cmp(&change[i]).then(i.cmp(&j)));
+    let mut picked: Vec<usize> = Vec::with_capacity(count);
+    for i in order {
+        if picked.len() == count {
+            break;
+        }
+        if picked.iter().all(|&j| i.abs_diff(j) >= MIN_SPACING) {
+            picked.push(i);
+        }
+    }
+    picked.sort_unstable();
+    Ok(picked)
+}
+
+/// Seeded DNA for an output of `frames` frames from a source clip `poses`:
+/// a window of `frames` source frames (the whole clip when shorter) placed
+/// by `seed`, and its [`representative_frames`], [`dna_count`]`(frames)` of
+/// them. Returns indices into `poses`. Equal seeds give equal frames.
+pub fn pick_dna_frames(poses: &[Keyframe], frames: usize, seed: u64) -> Result<Vec<usize>> {
+    if poses.is_empty() {
+        return Err(Error::Invalid("the DNA source has no frames".into()));
+    }
+    let len = frames.min(poses.len()).max(1);
+    let start = (Rng::new(seed).uniform() * (poses.len() - len + 1) as f64) as usize;
+    let start = start.min(poses.len() - len);
+    Ok(
+        representative_frames(&poses[start..start + len], dna_count(frames))?
+            .into_iter()
+            .map(|i| i + start)
+            .collect(),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rotation::Mat3;
+
+    fn rot_z(a: f64) -> Mat3<f64> {
+        let (s, c) = a.sin_cos();
+        [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]
+    }
+
+    /// A two-joint clip whose second joint turns by `speed(t)` per frame.
+    fn clip(n: usize, speed: impl Fn(usize) -> f64) -> Vec<Keyframe> {
+        let mut a = 0.0;
+        (0..n)
+            .map(|t| {
+                a += speed(t);
+                Keyframe {
+                    frame: t,
+                    positions: vec![0.0; 6],
+                    mask: vec![true; 6],
+                    rotations: Some(vec![rot_z(0.3 * t as f64), rot_z(a)]),
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn picks_the_fastest_frames_spaced_apart() {
+        // bursts of rotation at frames 50 and 140, slow elsewhere; the root
+        // turns fast everywhere and must not count
+        let poses = clip(200, |t| if t == 50 || t == 140 { 0.5 } else { 0.01 });
+        let f = representative_frames(&poses, 2).unwrap();
+        assert!(
+            f.len() == 2 && f[0].abs_diff(50) <= 1 && f[1].abs_diff(140) <= 1,
+            "{f:?}"
+        );
+        // spacing: a third pick cannot sit next to a burst
+        let f = representative_frames(&poses, 3).unwrap();
+        assert!(f.windows(2).all(|w| w[1] - w[0] >= MIN_SPACING), "{f:?}");
+    }
+
+    #[test]
+    fn seeds_are_repeatable_and_vary() {
+        let poses = clip(2000, |t| {
+            0.01 + 0.2 * ((t as f64) * 0.37).sin().abs().powi(8)
+        });
+        let a = pick_dna_frames(&poses, 360, 1).unwrap();
+        assert_eq!(a.len(), dna_count(360));
+        assert_eq!(a, pick_dna_frames(&poses, 360, 1).unwrap());
+        let others: Vec<_> = (2..6)
+            .map(|s| pick_dna_frames(&poses, 360, s).unwrap())
+            .collect();
+        assert!(others.iter().any(|o| *o != a), "{a:?} {others:?}");
+        // all inside the clip, also when the output is longer than the source
+        let long = pick_dna_frames(&poses[..100], 900, 3).unwrap();
+        assert!(
+            !long.is_empty() && long.iter().all(|&i| i < 100),
+            "{long:?}"
+        );
+    }
+
+    #[test]
+    fn errors_are_clear() {
+        assert!(pick_dna_frames(&[], 100, 0).is_err());
+        let mut poses = clip(10, |_| 0.1);
+        poses[3].rotations = None;
+        let e = representative_frames(&poses, 1).unwrap_err().to_string();
+        assert!(e.contains("frame 3"), "{e}");
+    }
+}
