@@ -78,7 +78,7 @@ SPLIT = os.environ.get("EVAL_SPLIT", "val")
 DNA_GT = os.environ.get("EVAL_DNA") == "gt"
 # EVAL_HYBRIDS=1: also score the model's output with one channel group taken
 # from SLERP+LERP's, to show which part of the model costs what.
-HYBRIDS = {f"model, slerp {g}": g for g in ["root position", "root rotation", "joints", "spine", "arms", "hands", "legs"]} \
+HYBRIDS = {f"model, slerp {g}": g for g in ["root position", "root height", "root rotation", "joints", "spine", "arms", "hands", "legs"]} \
     if os.environ.get("EVAL_HYBRIDS") == "1" else {}
 # EVAL_BLEND=w1,w2,...: also score the model's output blended towards
 # SLERP+LERP's by weight w (local joint rotations by quaternion slerp, the root
@@ -87,8 +87,9 @@ BLENDS = {f"model, blend {w}": float(w) for w in os.environ.get("EVAL_BLEND", ""
 CUBIC = ["cubic", "model, cubic root position"] if os.environ.get("EVAL_CUBIC") == "1" else []
 # every diagnostic row, in print order
 DIAGNOSTICS = list(HYBRIDS) + list(BLENDS) + CUBIC
-# The hybrids start from the first model method listed (model or model-nolock).
-HYBRID_BASE = next((m for m in METHODS if m.startswith("model")), None)
+# The hybrids start from the first model method listed (model or model-nolock),
+# or from the method EVAL_HYBRID_OF names (e.g. base).
+HYBRID_BASE = os.environ.get("EVAL_HYBRID_OF") or next((m for m in METHODS if m.startswith("model")), None)
 FEET = ["lFoot", "rFoot", "lFoot_Nub", "rFoot_Nub"]
 
 
@@ -229,7 +230,7 @@ def score(acc, pred, truth, keys, feet, floor, mu, sd):
 
 def hybrid_columns(bvh, group):
     """Motion columns of one channel group: "root position", "root rotation",
-    "joints" (every non-root joint), or a body part ("spine", "arms": collars to
+    "root height" (its y position alone), "joints" (every non-root joint), or a body part ("spine", "arms": collars to
     forearms, "hands": hands and fingers, "legs")."""
     names, _, _, chans, _ = bvh
     legs = ("Buttock", "Thigh", "Shin", "Foot")
@@ -239,7 +240,8 @@ def hybrid_columns(bvh, group):
     for j, (name, ch) in enumerate(zip(names, chans)):
         for c in ch:
             if j == 0:
-                take = group == "root position" if c.endswith("position") else group == "root rotation"
+                take = (group in ("root position", "root height") if c == "Yposition"
+                        else group == "root position" if c.endswith("position") else group == "root rotation")
             else:
                 part = ("legs" if any(x in name for x in legs) else "arms" if any(x in name for x in arms)
                         else "hands" if any(x in name for x in hands) else "spine")

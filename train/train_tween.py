@@ -27,7 +27,7 @@ from deeprep_train.tween import (SCALE, GAN_TARGET, Discriminator, Generator, Pa
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OUT = os.environ.get("TWEEN_OUT", os.path.join(ROOT, "train", "cache", "tween"))
-W = {"recon": 100.0, "vel": 100.0, "acc": 0.0, "spec": 0.0, "key": 300.0, "root": 50.0, "gan": 1.0, "br": 5.0,
+W = {"recon": 100.0, "vel": 100.0, "acc": 0.0, "spec": 0.0, "rot": 0.0, "key": 300.0, "root": 50.0, "gan": 1.0, "br": 5.0,
      "dna1": 50.0, "dna2": 50.0}
 # DNA weights can be overridden (--dna-weight): at this training budget the
 # thesis' 50 lets the generator flash DNA poses in single frames (run 3).
@@ -249,6 +249,14 @@ def main():
     ap.add_argument("--base", choices=BASES, default="linear",
                     help="what the generator corrects between whole-pose keys (base_channels): their raw RC-FK "
                          "values interpolated linearly (runs 9-19) or on a C1 spline, in raw space or in angle")
+    ap.add_argument("--rot-weight", type=float, default=0.0,
+                    help="weight of a loss on global joint rotations (squared Frobenius distance to the ground "
+                         "truth's through RC-FK; not in the thesis; session 8): what L2Q and NPSS measure")
+    ap.add_argument("--y-weight", type=float, default=1.0,
+                    help="multiplies the vertical component of the reconstruction loss (not in the thesis; "
+                         "session 8): L2P normalizes by per-coordinate spread, which is 7-8x smaller in y")
+    ap.add_argument("--d-warmup", type=int, default=300,
+                    help="discriminator-only steps when --resume has no discriminator (a recovered checkpoint)")
     ap.add_argument("--resume", default=None, help="continue from a gen.pt checkpoint (generator and discriminator)")
     args = ap.parse_args()
     torch.set_num_threads(args.threads)
@@ -257,6 +265,8 @@ def main():
         W["dna1"] = W["dna2"] = args.dna_weight
     W["acc"] = args.acc_weight
     W["spec"] = args.spec_weight
+    W["rot"] = args.rot_weight
+    axis_w = torch.tensor([1.0, args.y_weight, 1.0])
     if args.gan_weight is not None:
         W["gan"] = args.gan_weight
     rng = np.random.default_rng(args.seed)
@@ -298,7 +308,8 @@ def main():
         missing, unexpected = G.load_state_dict(ck["G"], strict=False)
         if unexpected or any(k != "log_tau" and not k.startswith("skip.") for k in missing):
             sys.exit(f"--resume {args.resume}: missing {missing}, unexpected {unexpected}")
-        D.load_state_dict(ck["D"])
+        if "D" in ck:
+            D.load_state_dict(ck["D"])
         step0 = ck["steps"]
     ema = copy.deepcopy(G).requires_grad_(False) if args.ema else None
 
@@ -313,6 +324,23 @@ def main():
     og = torch.optim.Adam(G.parameters(), lr=args.lr_g, betas=(0.5, 0.99))
     od = torch.optim.Adam(D.parameters(), lr=args.lr_d, betas=(0.5, 0.99))
     n, b = args.frames, args.batch
+    if args.resume and "D" not in torch.load(args.resume):
+        # a checkpoint recovered from ONNX (train/recover_checkpoint.py) has no
+        # discriminator: train a fresh one against the frozen generator first
+        for i in range(args.d_warmup):
+            with torch.no_grad():
+                dense, dense_rot, mask, dna, local, root, rc, keysets = make_batch(data, b, n, rng, fk, args.gaps,
+                                                                                   args.base)
+                gen_s = fk(G(dense, dense_rot, dna).transpose(1, 2), torch.zeros(b, n, 3)) / SCALE
+                full = mask.reshape(b, n, J, 3).all(-1).all(-1)
+                fake = torch.where(full[..., None, None], local / SCALE, gen_s).reshape(b, n, P).transpose(1, 2)
+                real = torch.stack([data.local[data.window(n, rng)] for _ in range(b)]) / SCALE
+            ld = ((D(real.reshape(b, n, P).transpose(1, 2)) - 1) ** 2).mean() + ((D(fake) + 1) ** 2).mean()
+            od.zero_grad()
+            ld.backward()
+            od.step()
+            if (i + 1) % 50 == 0:
+                log({"stage": "d_warmup", "step": i + 1, "D": ld.item()})
     t0, step = time.time(), step0
     while time.time() - t0 < args.gen_minutes * 60:
         dense, dense_rot, mask, dna, local, root, rc, keysets = make_batch(data, b, n, rng, fk, args.gaps, args.base)
@@ -320,7 +348,15 @@ def main():
         gen = fk(raw, torch.zeros(b, n, 3))                      # [B, N, J, 3] local (root at 0)
         gen_s, gt_s = gen / SCALE, local / SCALE
         losses = {}
-        losses["recon"] = ((gen_s - gt_s) ** 2).sum(-1).mean()
+        losses["recon"] = (((gen_s - gt_s) ** 2) * axis_w).sum(-1).mean()
+        if W["rot"] > 0:
+            k = len(fk.rotating)
+            u_gt = torch.minimum(torch.maximum(rc[..., 9:].reshape(b, n, k, 3), fk.lo), fk.hi)
+            r_gt = fk.global_rotations(fk.rotations_from_angles(rc[..., 3:9], u_gt))
+            r_gen = fk.global_rotations(fk.local_rotations(raw))
+            losses["rot"] = ((r_gen - r_gt) ** 2).sum((-1, -2)).mean()
+        else:
+            losses["rot"] = torch.zeros(())
         # velocity term (not in the thesis): frame-to-frame motion like the ground truth's
         losses["vel"] = (((gen_s[:, 1:] - gen_s[:, :-1]) - (gt_s[:, 1:] - gt_s[:, :-1])) ** 2).sum(-1).mean() * 25.0
         # acceleration term (not in the thesis): run 7's output had 2.4x the ground truth's

@@ -102,8 +102,12 @@ class RCFK(torch.nn.Module):
 
     def local_rotations(self, raw: torch.Tensor):
         k = len(self.rotating)
-        u = self.angles(raw[..., 6:].reshape(*raw.shape[:-1], k, 3))
-        rots = {0: sixd_to_matrix(raw[..., :6])}
+        return self.rotations_from_angles(raw[..., :6], self.angles(raw[..., 6:].reshape(*raw.shape[:-1], k, 3)))
+
+    def rotations_from_angles(self, r6: torch.Tensor, u: torch.Tensor):
+        """Local rotations {joint: [..., 3, 3]} from the root's 6D and the rotating
+        joints' Euler angles u [..., K, 3] (radians, already in range)."""
+        rots = {0: sixd_to_matrix(r6)}
         for i, j in enumerate(self.rotating):
             r = None
             for ax in self.orders[i]:
@@ -112,6 +116,20 @@ class RCFK(torch.nn.Module):
             m = self.frames[j]
             rots[j] = m @ r @ m.transpose(0, 1)
         return rots
+
+    def global_rotations(self, rots) -> torch.Tensor:
+        """Global rotations [..., 1 + K, 3, 3] of the root and the rotating joints
+        (the others only copy their parent's), from local_rotations' dict."""
+        g = {}
+        for j in range(len(self.names)):
+            p = self.parents[j]
+            if p is None:
+                g[j] = rots[j]
+            elif j in rots:
+                g[j] = g[p] @ rots[j]
+            else:
+                g[j] = g[p]
+        return torch.stack([g[0]] + [g[j] for j in self.rotating], dim=-3)
 
     def forward(self, raw: torch.Tensor, root_pos: torch.Tensor) -> torch.Tensor:
         rots = self.local_rotations(raw)

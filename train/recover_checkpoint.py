@@ -1,0 +1,102 @@
+"""Rebuilds PyTorch checkpoints of the bundled in-betweening networks from
+models/onnx/tween_{generator,path}.onnx, so that training can continue on a
+machine that never held train/cache (checkpoints are not committed).
+
+The legacy exporter keeps parameter names for most initializers; PReLU
+slopes and Linear weights get anonymous names, which are mapped back
+through their nodes' scope names. Each rebuilt network is checked against
+its parity fixture (models/onnx/fixtures/) and the script fails if it is
+off by more than 1e-4.
+
+Writes $TWEEN_OUT (default train/cache/tween)/gen.pt (generator only: a
+--resume of it trains a fresh discriminator first, see --d-warmup) and
+path.pt.
+
+  train/.venv/bin/python train/recover_checkpoint.py
+  train/.venv/bin/python train/train_tween.py --resume train/cache/tween/gen.pt --path-ckpt train/cache/tween/path.pt ...
+"""
+import json
+import os
+import sys
+
+import numpy as np
+import onnx
+import torch
+from onnx import numpy_helper
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from deeprep_train.rcfk import RCFK  # noqa: E402
+from deeprep_train.tween import Generator, PathPredictor  # noqa: E402
+from export_util import ONNX_DIR  # noqa: E402
+from train_tween import OUT, Data  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def scope_path(node_name):
+    """'/enc.1/act/PRelu' -> 'enc.1.act'; '/dna/mlp/mlp.0/MatMul' -> 'dna.mlp.0'."""
+    segs = []
+    for part in node_name.strip("/").split("/")[:-1]:
+        if segs and "." in part and part.rsplit(".", 1)[0] == segs[-1]:
+            segs[-1] = part
+        else:
+            segs.append(part)
+    return ".".join(segs)
+
+
+def load_onnx_weights(model, path):
+    m = onnx.load(path)
+    init = {i.name: torch.from_numpy(numpy_helper.to_array(i).copy()) for i in m.graph.initializer}
+    sd = model.state_dict()
+    got = {k: init[k] for k in sd if k in init}
+    for n in m.graph.node:
+        if n.op_type in ("PRelu", "MatMul") and len(n.input) > 1 and n.input[1].startswith("onnx::") \
+                and n.input[1] in init:
+            t = init[n.input[1]]
+            got[scope_path(n.name) + ".weight"] = t.T if n.op_type == "MatMul" else t
+    missing = [k for k in sd if k not in got]
+    if missing:
+        sys.exit(f"{path}: no initializer for {missing}")
+    model.load_state_dict({k: got[k].reshape(sd[k].shape) for k in sd})
+    model.eval()
+
+
+def check(model, fixture_name):
+    fx = json.load(open(os.path.join(ONNX_DIR, "fixtures", f"{fixture_name}.json")))
+    ins = [torch.tensor(v["data"], dtype=torch.float32).reshape(v["shape"]) for v in fx["inputs"].values()]
+    with torch.no_grad():
+        out = model(*ins).numpy().ravel()
+    err = float(np.abs(out - np.array(fx["output_onnxruntime"])).max())
+    if err > 1e-4:
+        sys.exit(f"{fixture_name}: rebuilt network is off its fixture by {err:.3g}")
+    return err
+
+
+def main():
+    data = Data(os.path.join(ROOT, "train", "cache", "motion60.npz"), "train")
+    P = 3 * len(data.joints)
+    fk = RCFK(data.joints, data.parents, data.offsets, data.channel_joints)
+    gman = json.load(open(os.path.join(ONNX_DIR, "tween_generator.manifest.json")))
+    pman = json.load(open(os.path.join(ONNX_DIR, "tween_path.manifest.json")))
+    names = {i.name for i in onnx.load(os.path.join(ONNX_DIR, "tween_generator.onnx")).graph.initializer}
+    skips = len({k.split(".")[1] for k in names if k.startswith("skip.")})
+    gen = Generator(P, fk.output_dim, skips=skips)
+    load_onnx_weights(gen, os.path.join(ONNX_DIR, "tween_generator.onnx"))
+    eg = check(gen, "tween_generator")
+    path = PathPredictor(P)
+    load_onnx_weights(path, os.path.join(ONNX_DIR, "tween_path.onnx"))
+    ep = check(path, "tween_path")
+    os.makedirs(OUT, exist_ok=True)
+    steps = gman["training"]["steps"]
+    args = {"skips": skips, "gate_tau": None, "base": gman.get("base", "linear"), "recovered_from": "onnx"}
+    torch.save({"G": gen.state_dict(), "steps": steps, "args": args, "weights": gman["training"]["loss_weights"]},
+               os.path.join(OUT, "gen.pt"))
+    torch.save({"model": path.state_dict(), "steps": pman["training"]["steps"],
+                "table_5_2_val": pman["training"].get("table_5_2_validation"), "config": {}},
+               os.path.join(OUT, "path.pt"))
+    print(f"{OUT}: gen.pt ({steps} steps, skips {skips}, base {args['base']}, fixture error {eg:.2g}), "
+          f"path.pt (fixture error {ep:.2g})")
+
+
+if __name__ == "__main__":
+    main()
