@@ -348,6 +348,8 @@ def main():
             D.load_state_dict(ck["D"])
         step0 = ck["steps"]
     ema = copy.deepcopy(G).requires_grad_(False) if args.ema else None
+    if ema is not None and args.resume and "G_ema" in ck:
+        ema.load_state_dict(ck["G_ema"])  # the average carries on where the run left it
 
     def save():
         ck = {"G": G.state_dict(), "D": D.state_dict(), "steps": step, "args": vars(args), "weights": W}
