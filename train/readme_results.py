@@ -86,7 +86,7 @@ takes (`EVAL_SPLIT=train`), not on these.
 NPSS sums over frequencies, so it grows with the window: compare methods
 within a gap. Verdict against the target (beat SLERP+LERP on NPSS at every
 gap and on L2P at 30 and 60): {"met" if goal else "not met"}. The model was
-trained for about 6.5 hours in all (runs 4-7, 9, 11, 16 and 22, each continuing the last; run 16 added U-Net skips to the decoder; run 22 continued run 16 at 45,500 steps with the angle-linear base and weight averaging; each was picked on training takes by `train/pick_checkpoint.py`, run 22 at its last step, {gen['training']['steps']:,}) on one or two CPU threads (the thesis: 560k iterations on
+trained for about 8 hours in all (runs 4-7, 9, 11, 16, 22 and 24, each continuing the last; run 16 added U-Net skips to the decoder; run 22 continued run 16 at 45,500 steps with the angle-linear base and weight averaging; run 24 continued run 22 with a loss on global joint rotations; each was picked on training takes by `train/pick_checkpoint.py`, run 24 at {gen['training']['steps']:,} steps) on one or two CPU threads (the thesis: 560k iterations on
 a GPU). RC-FK with Table D.1's ranges cannot express the data's wrist twist
 and finger rest poses (1.24 units per joint on average since the elbow hinge
 fit of `train/fit_frames.py`; 8.2 before), a floor that interpolating the
