@@ -60,6 +60,10 @@ METHOD_ARGS = {"model-nolock": ["--method", "model", "--no-foot-lock"],
                # diagnostics: the same without post-processing (keys not made exact)
                "model-nopost": ["--method", "model", "--no-post"],
                "base-nopost": ["--method", "model", "--no-post", "--variation", "0"]}
+# "variation-V" (diagnostic; e.g. EVAL_METHODS=slerp,variation-0.5): the model
+# without foot locking with --variation V, the share of the correction kept.
+METHOD_ARGS.update({m: ["--method", "model", "--no-foot-lock", "--variation", m.split("-", 1)[1]]
+                    for m in METHODS if m.startswith("variation-")})
 
 
 def runs_model(m):
