@@ -479,6 +479,9 @@ fn dna_poses(
     let frames: Option<Vec<usize>> = spec.split(',').map(|s| s.trim().parse().ok()).collect();
     let file;
     let (bvh, frames) = match frames {
+        Some(_) if o.seed.is_some() => {
+            return Err("--seed draws DNA frames from a --dna DNA.bvh file; with --dna F1,F2,... the frames are already chosen".into());
+        }
         Some(f) => (
             clip.ok_or(
                 "--dna F1,F2,... takes frames of the --from-bvh clip; give a BVH file otherwise",
@@ -503,9 +506,6 @@ fn dna_poses(
             (&file, picked)
         }
     };
-    if o.seed.is_some() && clip.is_some_and(|c| std::ptr::eq(c, bvh)) {
-        return Err("--seed draws DNA frames from a --dna DNA.bvh file; with --dna F1,F2,... the frames are already chosen".into());
-    }
     if frames.is_empty() {
         return Err(format!("--dna {spec}: no poses"));
     }
