@@ -233,9 +233,10 @@ def score(acc, pred, truth, keys, feet, floor, mu, sd):
 
 
 def hybrid_columns(bvh, group):
-    """Motion columns of one channel group: "root position", "root rotation",
-    "root height" (its y position alone), "joints" (every non-root joint), or a body part ("spine", "arms": collars to
-    forearms, "hands": hands and fingers, "legs")."""
+    """Motion columns of one channel group: "root position", "root height" (its
+    y position alone), "root rotation", "joints" (every non-root joint), or a
+    body part ("spine", "arms": collars to forearms, "hands": hands and
+    fingers, "legs")."""
     names, _, _, chans, _ = bvh
     legs = ("Buttock", "Thigh", "Shin", "Foot")
     arms = ("Collar", "Shldr", "ForeArm")

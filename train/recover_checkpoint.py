@@ -44,8 +44,8 @@ def scope_path(node_name):
     return ".".join(segs)
 
 
-def load_onnx_weights(model, path):
-    m = onnx.load(path)
+def load_onnx_weights(model, m, path):
+    """Copies the initializers of the ONNX model m (read from path) into model."""
     init = {i.name: torch.from_numpy(numpy_helper.to_array(i).copy()) for i in m.graph.initializer}
     sd = model.state_dict()
     got = {k: init[k] for k in sd if k in init}
@@ -78,13 +78,14 @@ def main():
     fk = RCFK(data.joints, data.parents, data.offsets, data.channel_joints)
     gman = json.load(open(os.path.join(ONNX_DIR, "tween_generator.manifest.json")))
     pman = json.load(open(os.path.join(ONNX_DIR, "tween_path.manifest.json")))
-    names = {i.name for i in onnx.load(os.path.join(ONNX_DIR, "tween_generator.onnx")).graph.initializer}
-    skips = len({k.split(".")[1] for k in names if k.startswith("skip.")})
+    gpath, ppath = (os.path.join(ONNX_DIR, f"tween_{x}.onnx") for x in ("generator", "path"))
+    gm = onnx.load(gpath)
+    skips = len({i.name.split(".")[1] for i in gm.graph.initializer if i.name.startswith("skip.")})
     gen = Generator(P, fk.output_dim, skips=skips)
-    load_onnx_weights(gen, os.path.join(ONNX_DIR, "tween_generator.onnx"))
+    load_onnx_weights(gen, gm, gpath)
     eg = check(gen, "tween_generator")
     path = PathPredictor(P)
-    load_onnx_weights(path, os.path.join(ONNX_DIR, "tween_path.onnx"))
+    load_onnx_weights(path, onnx.load(ppath), ppath)
     ep = check(path, "tween_path")
     os.makedirs(OUT, exist_ok=True)
     steps = gman["training"]["steps"]

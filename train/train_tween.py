@@ -347,6 +347,7 @@ def main():
         if "D" in ck:
             D.load_state_dict(ck["D"])
         step0 = ck["steps"]
+    fresh_d = bool(args.resume) and "D" not in ck
     ema = copy.deepcopy(G).requires_grad_(False) if args.ema else None
     if ema is not None and args.resume and "G_ema" in ck:
         ema.load_state_dict(ck["G_ema"])  # the average carries on where the run left it
@@ -362,7 +363,23 @@ def main():
     og = torch.optim.Adam(G.parameters(), lr=args.lr_g, betas=(0.5, 0.99))
     od = torch.optim.Adam(D.parameters(), lr=args.lr_d, betas=(0.5, 0.99))
     n, b = args.frames, args.batch
-    if args.resume and "D" not in torch.load(args.resume):
+
+    def with_keys(gen_s, gt_s, mask):
+        """Fake sequences [B, P, N] with the key poses put back (Sec. 5.2.5)."""
+        full = mask.reshape(b, n, J, 3).all(-1).all(-1)          # [B, N] frames with full keys
+        return torch.where(full[..., None, None], gt_s, gen_s).reshape(b, n, P).transpose(1, 2)
+
+    def d_step(fake):
+        """One discriminator update: LSGAN, real -> 1, fake -> -1 (eq. 5.7)."""
+        with torch.no_grad():
+            real = torch.stack([data.local[data.window(n, rng)] for _ in range(b)]) / SCALE
+        ld = ((D(real.reshape(b, n, P).transpose(1, 2)) - 1) ** 2).mean() + ((D(fake.detach()) + 1) ** 2).mean()
+        od.zero_grad()
+        ld.backward()
+        od.step()
+        return ld
+
+    if fresh_d:
         # a checkpoint recovered from ONNX (train/recover_checkpoint.py) has no
         # discriminator: train a fresh one against the frozen generator first
         for i in range(args.d_warmup):
@@ -370,20 +387,14 @@ def main():
                 dense, dense_rot, mask, dna, local, root, rc, keysets = make_batch(data, b, n, rng, fk, args.gaps,
                                                                                    args.base)
                 gen_s = fk(G(dense, dense_rot, dna).transpose(1, 2), torch.zeros(b, n, 3)) / SCALE
-                full = mask.reshape(b, n, J, 3).all(-1).all(-1)
-                fake = torch.where(full[..., None, None], local / SCALE, gen_s).reshape(b, n, P).transpose(1, 2)
-                real = torch.stack([data.local[data.window(n, rng)] for _ in range(b)]) / SCALE
-            ld = ((D(real.reshape(b, n, P).transpose(1, 2)) - 1) ** 2).mean() + ((D(fake) + 1) ** 2).mean()
-            od.zero_grad()
-            ld.backward()
-            od.step()
+            ld = d_step(with_keys(gen_s, local / SCALE, mask))
             if (i + 1) % 50 == 0:
                 log({"stage": "d_warmup", "step": i + 1, "D": ld.item()})
     t0, step = time.time(), step0
     while time.time() - t0 < args.gen_minutes * 60:
         dense, dense_rot, mask, dna, local, root, rc, keysets = make_batch(data, b, n, rng, fk, args.gaps, args.base)
         raw = G(dense, dense_rot, dna).transpose(1, 2)           # [B, N, out]
-        gen = fk(raw, torch.zeros(b, n, 3))                      # [B, N, J, 3] local (root at 0)
+        gen, r_gen = fk.pose(raw, torch.zeros(b, n, 3))          # [B, N, J, 3] local (root at 0), rotations
         gen_s, gt_s = gen / SCALE, local / SCALE
         losses = {}
         losses["recon"] = (((gen_s - gt_s) ** 2) * axis_w).sum(-1).mean()
@@ -391,7 +402,6 @@ def main():
             k = len(fk.rotating)
             u_gt = torch.minimum(torch.maximum(rc[..., 9:].reshape(b, n, k, 3), fk.lo), fk.hi)
             r_gt = fk.global_rotations(fk.rotations_from_angles(rc[..., 3:9], u_gt))
-            r_gen = fk.global_rotations(fk.local_rotations(raw))
             losses["rot"] = ((r_gen - r_gt) ** 2).sum((-1, -2)).mean()
         else:
             losses["rot"] = torch.zeros(())
@@ -423,9 +433,7 @@ def main():
             losses["path"] = ((((full_path - root) / SCALE) ** 2) * axis_w).sum(-1).mean()
         else:
             losses["path"] = torch.zeros(())
-        # fake sequences with the key poses put back (Sec. 5.2.5)
-        full = mask.reshape(b, n, J, 3).all(-1).all(-1)          # [B, N] frames with full keys
-        fake = torch.where(full[..., None, None], gt_s, gen_s).reshape(b, n, P).transpose(1, 2)
+        fake = with_keys(gen_s, gt_s, mask)
         losses["gan"] = ((D(fake) - GAN_TARGET) ** 2).mean()
         br = [m.last for m in G.resconvs()]
         losses["br"] = sum(((x.mean((0, 2)) ** 2).sum() + (torch.log(x.std((0, 2)) + 1e-6) ** 2).sum()) for x in br) / sum(x.shape[1] for x in br)
@@ -449,13 +457,7 @@ def main():
             with torch.no_grad():
                 for pe, p in zip(ema.parameters(), G.parameters()):
                     pe.mul_(args.ema).add_(p, alpha=1 - args.ema)
-        # discriminator: LSGAN, real -> 1, fake -> -1 (eq. 5.7)
-        with torch.no_grad():
-            real = torch.stack([data.local[data.window(n, rng)] for _ in range(b)]) / SCALE
-        ld = ((D(real.reshape(b, n, P).transpose(1, 2)) - 1) ** 2).mean() + ((D(fake.detach()) + 1) ** 2).mean()
-        od.zero_grad()
-        ld.backward()
-        od.step()
+        ld = d_step(fake)
         step += 1
         if step % 50 == 0:
             log({"stage": "gen", "step": step, "sec": round(time.time() - t0), "total": total.item(), "D": ld.item(),

@@ -117,32 +117,38 @@ class RCFK(torch.nn.Module):
             rots[j] = m @ r @ m.transpose(0, 1)
         return rots
 
-    def global_rotations(self, rots) -> torch.Tensor:
-        """Global rotations [..., 1 + K, 3, 3] of the root and the rotating joints
-        (the others only copy their parent's), from local_rotations' dict."""
-        g = {}
-        for j in range(len(self.names)):
-            p = self.parents[j]
-            if p is None:
-                g[j] = rots[j]
-            elif j in rots:
-                g[j] = g[p] @ rots[j]
-            else:
-                g[j] = g[p]
-        return torch.stack([g[0]] + [g[j] for j in self.rotating], dim=-3)
-
-    def forward(self, raw: torch.Tensor, root_pos: torch.Tensor) -> torch.Tensor:
-        rots = self.local_rotations(raw)
+    def _chain(self, rots, root_pos=None):
+        """Global rotations (and, given root_pos, positions) of every joint,
+        parent before child, from local_rotations' dict."""
         n = len(self.names)
-        eye = torch.eye(3, dtype=raw.dtype).expand(*raw.shape[:-1], 3, 3)
+        eye = torch.eye(3, dtype=rots[0].dtype).expand(*rots[0].shape)
         g_rot, g_pos = [None] * n, [None] * n
         for j in range(n):
             p = self.parents[j]
             local = rots.get(j, eye)
             if p is None:
                 g_rot[j] = local
-                g_pos[j] = self.offsets[j] + root_pos
+                if root_pos is not None:
+                    g_pos[j] = self.offsets[j] + root_pos
             else:
-                g_pos[j] = g_pos[p] + (g_rot[p] @ self.offsets[j].unsqueeze(-1)).squeeze(-1)
+                if root_pos is not None:
+                    g_pos[j] = g_pos[p] + (g_rot[p] @ self.offsets[j].unsqueeze(-1)).squeeze(-1)
                 g_rot[j] = g_rot[p] @ local
-        return torch.stack(g_pos, dim=-2)
+        return g_rot, g_pos
+
+    def _stack_rotating(self, g_rot):
+        return torch.stack([g_rot[0]] + [g_rot[j] for j in self.rotating], dim=-3)
+
+    def global_rotations(self, rots) -> torch.Tensor:
+        """Global rotations [..., 1 + K, 3, 3] of the root and the rotating joints
+        (the others only copy their parent's), from local_rotations' dict."""
+        return self._stack_rotating(self._chain(rots)[0])
+
+    def pose(self, raw: torch.Tensor, root_pos: torch.Tensor):
+        """forward's positions [..., J, 3] and global_rotations' [..., 1 + K, 3, 3]
+        from one pass."""
+        g_rot, g_pos = self._chain(self.local_rotations(raw), root_pos)
+        return torch.stack(g_pos, dim=-2), self._stack_rotating(g_rot)
+
+    def forward(self, raw: torch.Tensor, root_pos: torch.Tensor) -> torch.Tensor:
+        return torch.stack(self._chain(self.local_rotations(raw), root_pos)[1], dim=-2)
