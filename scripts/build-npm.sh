@@ -32,11 +32,14 @@ export interface SynthesisRequest {
   keyChannels: number[] | Float32Array;
   frames: number;
   post?: boolean;
+  /** After post-processing, pin feet in contact by two-bone IK (default false). */
+  footLock?: boolean;
   /** Motion DNA poses as channel rows (may be empty). */
   dna?: number[] | Float32Array;
   method?: 'model' | 'slerp';
-  /** Share of the generator's correction kept, in [0, 2] (default 1: as trained;
-   *  0: the keys interpolated as the model's base, with the learned root path). */
+  /** Share of the networks' departure from SLERP+LERP kept, in the pose and the
+   *  root path, in [0, 2] (1: the networks as trained; 0: SLERP+LERP).
+   *  Default: `DeeprepClient.defaultVariation`, the model's own. */
   variation?: number;
 }
 /** IK from joint positions (thesis Sec. 4.4.3). */
@@ -56,6 +59,8 @@ export class DeeprepClient {
   static create(opts: { modelBase: string; workerUrl?: URL | string; onProgress?: (p: Progress) => void }): Promise<DeeprepClient>;
   readonly skeletonBvh: string | null;
   readonly hasModel: boolean;
+  /** The variation a request without one gets: the model manifest's (chosen on training takes). */
+  readonly defaultVariation?: number;
   readonly modelError?: string;
   synthesize(req: SynthesisRequest): Promise<SynthesisResult>;
   /** IK from global joint positions (frames x joints x 3, the skeleton's joint order). */

@@ -50,18 +50,16 @@ from data_pipeline import DATA, TRUE_FPS, VALIDATION, take_of  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 GAPS = [int(g) for g in os.environ.get("EVAL_GAPS", "30,60,120,300").split(",")]
-METHODS = os.environ.get("EVAL_METHODS", "zerovel,slerp,model,model-nolock,base").split(",")
+METHODS = os.environ.get("EVAL_METHODS", "zerovel,slerp,model,model-lock,variation-1").split(",")
 # "model-nolock": the model with post-processing that makes keys exact
 # but leaves the feet as synthesized (CLI --no-foot-lock).
 METHOD_ARGS = {"model-nolock": ["--method", "model", "--no-foot-lock"],
-               # "base": the ablation without the generator's correction (--variation 0):
-               # the keys interpolated as the model's base, the learned root path, keys exact
-               "base": ["--method", "model", "--no-foot-lock", "--variation", "0"],
-               # diagnostics: the same without post-processing (keys not made exact)
-               "model-nopost": ["--method", "model", "--no-post"],
-               "base-nopost": ["--method", "model", "--no-post", "--variation", "0"]}
-# "variation-V" (diagnostic; e.g. EVAL_METHODS=slerp,variation-0.5): the model
-# without foot locking with --variation V, the share of the correction kept.
+               "model-lock": ["--method", "model", "--foot-lock"],
+               # diagnostic: the same without post-processing (keys not made exact)
+               "model-nopost": ["--method", "model", "--no-post"]}
+# "variation-V" (e.g. variation-1, the networks as trained): the model without
+# foot locking at --variation V, the share of the networks' departure from
+# SLERP+LERP kept (0 is SLERP+LERP itself).
 METHOD_ARGS.update({m: ["--method", "model", "--no-foot-lock", "--variation", m.split("-", 1)[1]]
                     for m in METHODS if m.startswith("variation-")})
 

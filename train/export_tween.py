@@ -91,6 +91,9 @@ def main():
                    {"name": "dense_rot", "shape": [1, 2 * fk.output_dim, "frames"], "meaning": "the same dense format for whole-pose keys' raw RC-FK values (root 6D, atanh of range position, |v| <= 3), the values interpolated between keys as `base` says; the output adds to them"},
                    {"name": "dna", "shape": [1, "dna_frames", P], "meaning": "Motion DNA: representative local poses without root rotation, divided by scale"}],
         "base": gck["args"].get("base", "linear"),
+        # the default share of the learned departure from interpolation;
+        # train/pick_variation.py chooses it on training takes afterwards
+        "variation": float(os.environ.get("TWEEN_VARIATION", "1")),
         "outputs": [{"name": "raw", "shape": [1, fk.output_dim, "frames"], "meaning": "root 6D, then tanh-ranged Euler values per rotating joint (RC-FK)"}],
         "training": {"steps": gck["steps"], "batch": gck["args"]["batch"], "frames": gck["args"]["frames"],
                      "loss_weights": gck.get("weights", W), "gan_target": GAN_TARGET, "last_log": last},

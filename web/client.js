@@ -1,7 +1,9 @@
 // A Promise API over the synthesis worker, with progress callbacks.
 //   const c = await DeeprepClient.create({ modelBase: '../models/onnx', onProgress });
 //   const r = await c.synthesize({ keyFrames, keyChannels, frames, post: true, dna: [], method: 'model', variation: 1 });
-//   (variation, optional, in [0, 2]: share of the generator's correction kept; 0 = the interpolated base)
+//   (variation, optional, in [0, 2]: share of the networks' departure from SLERP+LERP kept, pose and
+//   root path; 1 = the networks as trained, 0 = SLERP+LERP; absent = c.defaultVariation,
+//   the model's own default)
 export class DeeprepClient {
   static async create({ modelBase, workerUrl = new URL('./worker.js', import.meta.url), onProgress = () => {} } = {}) {
     const c = new DeeprepClient();
@@ -25,6 +27,7 @@ export class DeeprepClient {
     const info = await ready;
     c.skeletonBvh = info.skeletonBvh;
     c.hasModel = info.hasModel;
+    c.defaultVariation = info.defaultVariation;
     c.modelError = info.modelError;
     return c;
   }

@@ -570,6 +570,8 @@ async function main() {
   });
   if (!state.client.hasModel) throw new Error(`models unavailable (${state.client.modelError})`);
   state.skeleton = parseSkeleton(state.client.skeletonBvh);
+  $('variation').value = String(state.client.defaultVariation);
+  $('variation-value').textContent = state.client.defaultVariation.toFixed(2);
   const [poses, keys] = await Promise.all([
     fetch(`${EXAMPLES}/poses.json`).then((r) => r.json()),
     fetch(`${EXAMPLES}/keys.json`).then((r) => r.json()),

@@ -1,8 +1,8 @@
 // deeprep synthesis worker: loads the wasm package and the in-betweening
 // models off the main thread, and answers requests with progress events.
 //   -> {type: 'init', modelBase}
-//   <- {type: 'ready', skeletonBvh, hasModel, modelError}
-//   -> {type: 'synthesize', id, keyFrames, keyChannels, frames, post, dna, method}
+//   <- {type: 'ready', skeletonBvh, hasModel, defaultVariation, modelError}
+//   -> {type: 'synthesize', id, keyFrames, keyChannels, frames, post, dna, method, variation, footLock}
 //   <- {type: 'progress', id, stage, fraction}  ...  {type: 'result', id, ...} | {type: 'error', id, message}
 //   -> {type: 'rcAngles', id, channels, joint} / {type: 'setRcAngles', id, channels, joint, angles}
 //   -> {type: 'ik', id, positions, frames}   (IK from joint positions; the IK model loads on first use)
@@ -28,7 +28,7 @@ async function handleInit(msg) {
       fetch(`${base}/tween_generator.manifest.json`).then((r) => { if (!r.ok) throw new Error(`manifest: HTTP ${r.status}`); return r.text(); }),
     ]);
     model = new Inbetweener(g, p, m);
-    postMessage({ type: 'ready', skeletonBvh: model.skeletonBvh, hasModel: true });
+    postMessage({ type: 'ready', skeletonBvh: model.skeletonBvh, hasModel: true, defaultVariation: model.defaultVariation });
   } catch (e) {
     postMessage({ type: 'ready', skeletonBvh: null, hasModel: false, modelError: String(e.message || e) });
   }
@@ -62,7 +62,7 @@ function handle(msg) {
     const kc = new Float32Array(msg.keyChannels);
     const r = msg.method === 'slerp'
       ? model.interpolate(kf, kc, msg.frames)
-      : model.synthesize(kf, kc, msg.frames, msg.post, new Float32Array(msg.dna || []), msg.variation);
+      : model.synthesize(kf, kc, msg.frames, msg.post, new Float32Array(msg.dna || []), msg.variation, msg.footLock);
     postMessage({ type: 'progress', id, stage: 'writing BVH', fraction: 0.9 });
     const positions = r.positions;
     postMessage({ type: 'result', id, method: msg.method, bvh: r.bvh, frames: r.frames, times: Array.from(r.times),

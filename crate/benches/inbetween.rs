@@ -52,7 +52,7 @@ fn main() {
             dna: None,
             post_process: true,
             foot_lock: Some(deeprep::motion::feet::FootLock::default()),
-            variation: Request::VARIATION,
+            variation: None,
         };
         // The first call at a length also optimizes tract's plan for it.
         let t = Instant::now();

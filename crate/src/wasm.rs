@@ -292,6 +292,13 @@ impl Inbetweener {
         })
     }
 
+    /// The variation `synthesize` uses when given none: the manifest's,
+    /// chosen for this model on training takes.
+    #[wasm_bindgen(getter, js_name = defaultVariation)]
+    pub fn default_variation(&self) -> f32 {
+        self.inner.default_variation
+    }
+
     /// The model's skeleton as BVH text with no frames.
     #[wasm_bindgen(getter, js_name = skeletonBvh)]
     pub fn skeleton_bvh(&self) -> String {
@@ -303,11 +310,14 @@ impl Inbetweener {
     /// at `keyFrames` (sorted, unique, < frames, at most 600 apart).
     /// `dnaChannels` (optional, may be empty): Motion DNA poses as channel
     /// rows; their root rotation is removed. Empty: the keys serve as DNA.
-    /// `postProcess`: make the keys exact, then lock feet in contact with
-    /// the floor (`motion::feet`); false returns the networks' raw motion.
-    /// `variation` (optional, in [0, 2], default 1): how much of the
-    /// generator's correction to keep; 0 gives the interpolated base with
-    /// the learned root path.
+    /// `postProcess`: make the keys exact; false returns the networks' raw
+    /// motion. `footLock` (optional, default false; only with
+    /// `postProcess`): then pin feet in contact with the floor
+    /// (`motion::feet`).
+    /// `variation` (optional, in [0, 2]): how much of the networks'
+    /// departure from SLERP+LERP to keep, in the pose and the root path; 1
+    /// is the networks as trained, 0 SLERP+LERP; absent: the model's
+    /// default (`defaultVariation`).
     pub fn synthesize(
         &self,
         key_frames: &[u32],
@@ -316,6 +326,7 @@ impl Inbetweener {
         post_process: bool,
         dna_channels: &[f32],
         variation: Option<f32>,
+        foot_lock: Option<bool>,
     ) -> Result<InbetweenResult, JsError> {
         let keys = keys_from_channels(&self.inner.template, key_frames, key_channels)?;
         let dna = if dna_channels.is_empty() {
@@ -332,8 +343,9 @@ impl Inbetweener {
             frames,
             dna,
             post_process,
-            foot_lock: post_process.then(crate::motion::feet::FootLock::default),
-            variation: variation.unwrap_or(crate::motion::pipeline::Request::VARIATION),
+            foot_lock: (post_process && foot_lock.unwrap_or(false))
+                .then(crate::motion::feet::FootLock::default),
+            variation,
         };
         let now = || js_sys::Date::now();
         let out = self.inner.synthesize(&req, &now).map_err(js_err)?;

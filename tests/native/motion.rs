@@ -5,7 +5,7 @@ use deeprep::motion::baseline::{slerp_lerp, zero_velocity};
 use deeprep::motion::dense::{dense_input, Norm};
 use deeprep::motion::feet::FootLock;
 use deeprep::motion::pipeline::{Request, TweenModels};
-use deeprep::motion::post::make_keys_exact;
+use deeprep::motion::post::{make_keys_exact, scale_root_deviation};
 use deeprep::motion::{Keyframe, Motion};
 use deeprep::rng::Rng;
 use deeprep::rotation::sample::uniform_so3;
@@ -138,6 +138,48 @@ fn post_processing_makes_keys_exact_and_leaves_smooth_corrections() {
 }
 
 #[test]
+fn root_variation_scales_the_path_about_the_keys_lerp() {
+    // A wavy path; keys give x at 10 and 40, y only at 20 (and z nowhere).
+    let path: Vec<[f64; 3]> = (0..60)
+        .map(|t| {
+            let t = t as f64;
+            [t + 5.0 * (t / 4.0).sin(), 80.0 + (t / 3.0).cos(), 2.0 * t]
+        })
+        .collect();
+    let m = [true, false, false];
+    let keys = vec![
+        key(10, &[0.0, 0.0, 0.0], &m),
+        key(20, &[0.0, 70.0, 0.0], &[false, true, false]),
+        key(40, &[60.0, 0.0, 0.0], &m),
+    ];
+    let scaled = |share| {
+        let mut p = path.clone();
+        scale_root_deviation(&mut p, &keys, share);
+        p
+    };
+    assert_eq!(scaled(1.0), path);
+    let lerp = scaled(0.0);
+    let half = scaled(0.5);
+    for t in 10..=40 {
+        let want = 60.0 * (t - 10) as f64 / 30.0;
+        assert!((lerp[t][0] - want).abs() < 1e-12, "x at {t}");
+        let mid = 0.5 * (path[t][0] + want);
+        assert!((half[t][0] - mid).abs() < 1e-12, "half-way x at {t}");
+    }
+    // Outside the keys the path moves rigidly with the end key (continuous).
+    for t in (0..10).chain(41..60) {
+        let end = if t < 10 { 10 } else { 40 };
+        let shift = lerp[end][0] - path[end][0];
+        assert!((lerp[t][0] - path[t][0] - shift).abs() < 1e-12, "x at {t}");
+    }
+    // A single key pins the coordinate's offset everywhere; z is untouched.
+    for t in 0..60 {
+        assert!((lerp[t][1] - (path[t][1] - path[20][1] + 70.0)).abs() < 1e-12);
+        assert_eq!(lerp[t][2], path[t][2]);
+    }
+}
+
+#[test]
 fn bad_requests_are_clear_errors() {
     let mut rng = Rng::new(3);
     let k = |f| rot_key(f, &mut Rng::new(f as u64), 2);
@@ -221,7 +263,7 @@ fn the_model_pipeline_hits_keys_exactly_after_post_processing() {
         dna: None,
         post_process: true,
         foot_lock: Some(FootLock::default()),
-        variation: Request::VARIATION,
+        variation: None,
     };
     let out = m.synthesize(&req, &|| 0.0).unwrap();
     assert_eq!(out.motion.len(), 230);
@@ -254,7 +296,7 @@ fn the_model_pipeline_hits_keys_exactly_after_post_processing() {
         dna: None,
         post_process: true,
         foot_lock: Some(FootLock::default()),
-        variation: Request::VARIATION,
+        variation: None,
     };
     assert!(m
         .synthesize(&far, &|| 0.0)
@@ -268,19 +310,20 @@ fn the_model_pipeline_hits_keys_exactly_after_post_processing() {
     assert!(m.synthesize(&zero, &|| 0.0).is_err());
     for v in [f32::NAN, -0.1, 2.5] {
         let bad = Request {
-            variation: v,
+            variation: Some(v),
             ..req.clone()
         };
         let e = m.synthesize(&bad, &|| 0.0).unwrap_err().to_string();
         assert!(e.contains("variation"), "{v}: {e}");
     }
-    // Variation 0 is the base alone: before any post-processing it passes
-    // through the whole-pose keys as RC-FK represents them (their ranges
-    // clamp), and it differs from the generator's output.
-    let raw = |variation| {
+    // Variation 0 is SLERP+LERP: before any post-processing the pose is
+    // SLERP between the keys' rotations and the root path the keys' root
+    // positions interpolated linearly; both differ from the networks'
+    // output, and a half variation lies between them.
+    let raw = |variation: f32| {
         m.synthesize(
             &Request {
-                variation,
+                variation: Some(variation),
                 post_process: false,
                 ..req.clone()
             },
@@ -288,12 +331,18 @@ fn the_model_pipeline_hits_keys_exactly_after_post_processing() {
         )
         .unwrap()
     };
-    let (base, full) = (raw(0.0), raw(1.0));
-    for k in &keys {
-        let r = k.rotations.as_ref().unwrap();
-        let expect = m.rc.local_rotations(&m.rc.raw_from_rotations(r)).unwrap();
-        for (a, b) in base.motion.rotations[k.frame].iter().zip(&expect) {
-            assert!(geodesic_distance(a, b) < 1e-4, "key at {}", k.frame);
+    let (base, full, half) = (raw(0.0), raw(1.0), raw(0.5));
+    let plain = slerp_lerp(&keys, 230).unwrap();
+    for t in 0..230 {
+        for jj in 0..j {
+            let (b, p) = (&base.motion.rotations[t][jj], &plain.rotations[t][jj]);
+            assert!(geodesic_distance(b, p) < 1e-6, "frame {t} joint {jj}");
+            let (h, f) = (&half.motion.rotations[t][jj], &full.motion.rotations[t][jj]);
+            let (to_plain, to_full) = (geodesic_distance(h, p), geodesic_distance(h, f));
+            assert!(
+                (to_plain - to_full).abs() < 1e-6,
+                "frame {t} joint {jj}: half way"
+            );
         }
     }
     let moved = base
@@ -308,6 +357,34 @@ fn the_model_pipeline_hits_keys_exactly_after_post_processing() {
         moved > 1e-2,
         "the correction changes the motion ({moved} rad)"
     );
+    let (mut lerp_err, mut path_moved) = (0.0f64, 0.0f64);
+    for t in 0..=200 {
+        let (a, b) = if t <= 90 { (0, 1) } else { (1, 2) };
+        let s = (t - keys[a].frame) as f64 / (keys[b].frame - keys[a].frame) as f64;
+        for c in 0..3 {
+            let want = keys[a].positions[c] as f64 * (1.0 - s) + keys[b].positions[c] as f64 * s;
+            lerp_err = lerp_err.max((base.motion.root[t][c] - want).abs());
+            path_moved = path_moved.max((full.motion.root[t][c] - want).abs());
+        }
+    }
+    assert!(
+        lerp_err < 1e-4,
+        "variation 0 root path off the lerp by {lerp_err}"
+    );
+    assert!(path_moved > 1e-2, "the learned root path is not the lerp");
+    // Without a variation the request takes the model's default.
+    let dflt = raw(m.default_variation);
+    let none = m
+        .synthesize(
+            &Request {
+                variation: None,
+                post_process: false,
+                ..req.clone()
+            },
+            &|| 0.0,
+        )
+        .unwrap();
+    assert_eq!(dflt.motion.root, none.motion.root);
     let bad_dna = Request {
         dna: Some(vec![vec![0.0; 5]]),
         ..req

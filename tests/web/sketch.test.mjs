@@ -62,7 +62,12 @@ test('sketch page: 3 keys, 512 frames, drawn, exported, undoable', async () => {
   assert.ok(stats.lit > 0.003 * stats.total, `canvas looks blank: ${JSON.stringify(stats)}`);
   assert.ok(stats.key > 200 && stats.pose > 200, `poses or keys missing: ${JSON.stringify(stats)}`);
 
-  // Variation 0 (no generator correction) gives a different motion through the same keys.
+  // The variation slider starts at the model's default (its manifest's), and
+  // variation 0 (plain interpolation) gives a different motion through the same keys.
+  const manifest = JSON.parse(fs.readFileSync(path.join(ROOT, 'models/onnx/tween_generator.manifest.json'), 'utf8'));
+  const defaultVariation = manifest.variation ?? 1;
+  assert.equal(Number(await page.$eval('#variation', (el) => el.value)), defaultVariation);
+  assert.equal(await page.textContent('#variation-value'), defaultVariation.toFixed(2));
   const sample = () => page.evaluate(() => Array.from(window.deeprepState.result.positions.subarray(0, 3 * 31 * 512)));
   const full = await sample();
   await page.$eval('#variation', (el) => { el.value = '0'; el.dispatchEvent(new Event('input')); });
@@ -74,7 +79,7 @@ test('sketch page: 3 keys, 512 frames, drawn, exported, undoable', async () => {
   const diff = Math.max(...full.map((v, i) => Math.abs(v - plain[i])));
   assert.ok(diff > 1, `variation 0 should change the motion (max diff ${diff})`);
   assert.deepEqual(errors, []);
-  await page.$eval('#variation', (el) => { el.value = '1'; el.dispatchEvent(new Event('input')); });
+  await page.$eval('#variation', (el, v) => { el.value = String(v); el.dispatchEvent(new Event('input')); }, defaultVariation);
 
   await setFrame(380);
   fs.mkdirSync(path.join(ROOT, 'tests/out'), { recursive: true });

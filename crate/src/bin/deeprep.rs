@@ -24,14 +24,16 @@ const USAGE: &str = "usage:
       root position, root 6D, range-constrained Euler angles in radians, clamped to
       Table D.1), little-endian f32; for the training pipeline
   deeprep inbetween --from-bvh CLIP.bvh --keys F1,F2,... -o OUT.bvh
-          [--method model|slerp|zerovel] [--models DIR] [--no-post] [--no-foot-lock] [--variation V]
+          [--method model|slerp|zerovel] [--models DIR] [--no-post] [--foot-lock] [--variation V]
           [--dna F1,F2,...|DNA.bvh [--seed S]]
       whole-pose keys from those frames of CLIP; OUT has CLIP's length, frame rate and
       skeleton; frames between the first and last key are synthesized, the others copied
-  deeprep inbetween KEYS.json --frames N [-o OUT.bvh] [--models DIR] [--no-post] [--no-foot-lock] [--variation V] [--dna DNA.bvh [--seed S]]
-      --no-post: keys not made exact, feet not locked; --no-foot-lock: keys exact, feet as synthesized
-      --variation V in [0, 2]: share of the generator's correction kept (1, the default: as trained;
-      0: the keys interpolated as the model's base, with the learned root path)
+  deeprep inbetween KEYS.json --frames N [-o OUT.bvh] [--models DIR] [--no-post] [--foot-lock] [--variation V] [--dna DNA.bvh [--seed S]]
+      --no-post: keys not made exact; --foot-lock: after that, pin feet in contact by two-bone IK
+      (off by default: at the default variation it raised L2P, NPSS and foot skating on training takes)
+      --variation V in [0, 2]: share of the networks' departure from SLERP+LERP kept, in the pose
+      and the root path (1: the networks as trained; 0: SLERP+LERP; default: the model's
+      manifest value, chosen on training takes)
       --dna: Motion DNA poses (Sec. 5.2.5), frames of CLIP or every frame of a BVH on the
       model's skeleton; without it the whole-pose keys serve
       --seed S (with --dna DNA.bvh): DNA drawn as in training, the representative frames
@@ -334,7 +336,7 @@ struct Opts {
     models: String,
     post: bool,
     foot_lock: bool,
-    variation: f32,
+    variation: Option<f32>,
     dna: Option<String>,
     seed: Option<u64>,
 }
@@ -349,8 +351,8 @@ fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
         method: "model".into(),
         models: "models/onnx".into(),
         post: true,
-        foot_lock: true,
-        variation: deeprep::motion::pipeline::Request::VARIATION,
+        foot_lock: false,
+        variation: None,
         dna: None,
         seed: None,
     };
@@ -382,13 +384,20 @@ fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
                 )
             }
             "--variation" => {
-                o.variation = next(i)?
-                    .parse()
-                    .map_err(|_| "--variation expects a number in [0, 2]".to_string())?
+                o.variation = Some(
+                    next(i)?
+                        .parse()
+                        .map_err(|_| "--variation expects a number in [0, 2]".to_string())?,
+                )
             }
             "--models" => o.models = next(i)?,
             "--no-post" => {
                 o.post = false;
+                i += 1;
+                continue;
+            }
+            "--foot-lock" => {
+                o.foot_lock = true;
                 i += 1;
                 continue;
             }

@@ -7,6 +7,8 @@ use super::feet::{lock_feet, FootLock, FootLockStats};
 use super::{post, validate_keys, Keyframe, Motion};
 use crate::error::{Error, Result};
 use crate::rcfk::{RcSkeleton, TableRow};
+use crate::rotation::quat::{matrix_to_quat, quat_to_matrix_unit, slerp};
+use crate::rotation::Mat3;
 use crate::runtime::{Model, TensorF32};
 use crate::skeleton::Bvh;
 use serde::Deserialize;
@@ -22,6 +24,13 @@ struct Manifest {
     normalization: NormJson,
     #[serde(default)]
     base: Base,
+    /// The default variation chosen for this model (absent: 1).
+    #[serde(default = "default_variation")]
+    variation: f32,
+}
+
+fn default_variation() -> f32 {
+    1.0
 }
 
 #[derive(Deserialize)]
@@ -43,6 +52,10 @@ pub struct TweenModels {
     pub norm: Norm,
     /// The interpolation the generator was trained to correct.
     pub base: Base,
+    /// The variation a request gets when it names none: the manifest's
+    /// `variation`, chosen for this model on training takes (1 when the
+    /// manifest has none).
+    pub default_variation: f32,
 }
 
 /// A synthesis request.
@@ -60,16 +73,14 @@ pub struct Request {
     /// After that post-processing, pin feet in contact ([`super::feet`]);
     /// `None`: leave the feet as synthesized. Ignored without post-processing.
     pub foot_lock: Option<FootLock>,
-    /// How much of the generator's correction to keep, in [0, 2]: 1 (the
-    /// default, [`Request::VARIATION`]) is the output as trained; 0 is the
-    /// base it corrects (the keys interpolated, see [`Base`]) with the
-    /// learned root path; in between scales the correction.
-    pub variation: f32,
-}
-
-impl Request {
-    /// The default [`Request::variation`]: the generator as trained.
-    pub const VARIATION: f32 = 1.0;
+    /// How much of the networks' departure from plain interpolation to
+    /// keep, in [0, 2]: each joint's local rotation is slerped from
+    /// SLERP+LERP between the whole-pose keys (0) to the generator's (1),
+    /// and the root path's deviation from the keys' root positions
+    /// interpolated linearly is scaled by it. 1 is the networks as trained;
+    /// 0 is SLERP+LERP; above 1 extrapolates. `None` takes the model's
+    /// default ([`TweenModels::default_variation`]).
+    pub variation: Option<f32>,
 }
 
 /// Milliseconds spent in each stage.
@@ -128,6 +139,7 @@ impl TweenModels {
                 dt_clip: m.normalization.dt_clip,
             },
             base: m.base,
+            default_variation: m.variation,
         })
     }
 
@@ -161,10 +173,10 @@ impl TweenModels {
             return Err(Error::Invalid("the requested length is 0 frames".into()));
         }
         validate_keys(&req.keys, req.frames, j)?;
-        if !(0.0..=2.0).contains(&req.variation) {
+        let variation = req.variation.unwrap_or(self.default_variation);
+        if !(0.0..=2.0).contains(&variation) {
             return Err(Error::Invalid(format!(
-                "variation {} is outside [0, 2] (1: the generator as trained, 0: no correction)",
-                req.variation
+                "variation {variation} is outside [0, 2] (1: the networks as trained, 0: plain interpolation)"
             )));
         }
         for w in req.keys.windows(2) {
@@ -213,11 +225,6 @@ impl TweenModels {
                 raw.shape
             )));
         }
-        if req.variation != 1.0 {
-            for (r, b) in raw.data.iter_mut().zip(&base) {
-                *r = b + req.variation * (*r - b);
-            }
-        }
         let t1 = now_ms();
         let mut rotations = Vec::with_capacity(n);
         let mut frame = vec![0.0f32; d];
@@ -255,10 +262,12 @@ impl TweenModels {
                 cum[t][c] = cum[t - 1][c] + vel.data[c * n + t - 1] as f64 * self.norm.scale as f64;
             }
         }
-        let root: Vec<[f64; 3]> = (0..req.frames)
+        let mut root: Vec<[f64; 3]> = (0..req.frames)
             .map(|t| [0, 1, 2].map(|c| r_anchor[c] + cum[t][c] - cum[t_anchor][c]))
             .collect();
+        post::scale_root_deviation(&mut root, &req.keys, variation as f64);
         rotations.truncate(req.frames);
+        self.blend_pose(&mut rotations, &req.keys, variation)?;
         let mut motion = Motion { root, rotations };
         let t3 = now_ms();
         let key_error_raw = self.key_error(&motion, &req.keys);
@@ -285,6 +294,34 @@ impl TweenModels {
             key_error,
             foot_lock,
         })
+    }
+
+    /// The pose half of `variation`: every joint's local rotation slerped
+    /// from SLERP+LERP between the whole-pose keys' rotations (0) to the
+    /// networks' (1), extrapolating above 1. Without such keys there is no
+    /// interpolation to blend with, and the pose is left as synthesized.
+    fn blend_pose(
+        &self,
+        rotations: &mut [Vec<Mat3<f64>>],
+        keys: &[Keyframe],
+        variation: f32,
+    ) -> Result<()> {
+        let rot_keys: Vec<Keyframe> = keys
+            .iter()
+            .filter(|k| k.rotations.is_some() && k.mask.iter().all(|m| *m))
+            .cloned()
+            .collect();
+        if variation == 1.0 || rot_keys.is_empty() {
+            return Ok(());
+        }
+        let plain = super::baseline::slerp_lerp(&rot_keys, rotations.len())?;
+        for (frame, plain) in rotations.iter_mut().zip(&plain.rotations) {
+            for (r, p) in frame.iter_mut().zip(plain) {
+                let q = slerp(&matrix_to_quat(p), &matrix_to_quat(r), variation as f64);
+                *r = quat_to_matrix_unit(&q);
+            }
+        }
+        Ok(())
     }
 
     fn dna(&self, req: &Request) -> Result<Vec<f32>> {

@@ -9,6 +9,10 @@
 //!
 //! Before the first and after the last key, the nearest key's correction
 //! is held.
+//!
+//! [`scale_root_deviation`] is the root half of the pipeline's `variation`:
+//! it scales how far the root path strays from the keys' linear
+//! interpolation (SLERP+LERP's root).
 
 use super::{Keyframe, Motion};
 use crate::rotation::quat::{matrix_to_quat, quat_to_matrix_unit, slerp};
@@ -33,6 +37,56 @@ fn bracket(frames: &[usize], t: usize) -> (usize, usize, f64) {
     let a = b - 1;
     let s = (t - frames[a]) as f64 / (frames[b] - frames[a]) as f64;
     (a, b, smoothstep(s))
+}
+
+/// Scales the root path's deviation from the keys' root positions
+/// interpolated linearly by `share`, per coordinate given by keys:
+/// `root + (share − 1)·(root − lerp(keys))` between the first and last key
+/// that give the coordinate; outside them the path moves by the same amount
+/// as at the nearest such key, so it stays continuous. `share` 1
+/// leaves the path as it is; 0 makes it the linear interpolation between
+/// keys (what SLERP+LERP does with the root).
+pub fn scale_root_deviation(root: &mut [[f64; 3]], keys: &[Keyframe], share: f64) {
+    if share == 1.0 {
+        return;
+    }
+    let frames = root.len();
+    for c in 0..3 {
+        let ks: Vec<&Keyframe> = keys
+            .iter()
+            .filter(|k| k.mask[c] && k.frame < frames)
+            .collect();
+        if ks.is_empty() {
+            continue;
+        }
+        let fr: Vec<usize> = ks.iter().map(|k| k.frame).collect();
+        let val: Vec<f64> = ks.iter().map(|k| k.positions[c] as f64).collect();
+        let (first, last) = (fr[0], fr[fr.len() - 1]);
+        let dev = |t: usize, root: &[[f64; 3]]| {
+            let (a, b) = match fr.partition_point(|&f| f <= t) {
+                0 => (0, 0),
+                b if b == fr.len() => (b - 1, b - 1),
+                b => (b - 1, b),
+            };
+            let s = if a == b {
+                0.0
+            } else {
+                (t - fr[a]) as f64 / (fr[b] - fr[a]) as f64
+            };
+            root[t][c] - (val[a] * (1.0 - s) + val[b] * s)
+        };
+        let (d_first, d_last) = (dev(first, root), dev(last, root));
+        for t in 0..frames {
+            let d = if t < first {
+                d_first
+            } else if t > last {
+                d_last
+            } else {
+                dev(t, root)
+            };
+            root[t][c] += (share - 1.0) * d;
+        }
+    }
 }
 
 /// Applies the correction in place.
