@@ -39,6 +39,13 @@ fn bracket(frames: &[usize], t: usize) -> (usize, usize, f64) {
     (a, b, smoothstep(s))
 }
 
+/// The keys inside the motion that give root coordinate `c`.
+fn keys_giving(keys: &[Keyframe], c: usize, frames: usize) -> Vec<&Keyframe> {
+    keys.iter()
+        .filter(|k| k.mask[c] && k.frame < frames)
+        .collect()
+}
+
 /// Scales the root path's deviation from the keys' root positions
 /// interpolated linearly by `share`, per coordinate given by keys:
 /// `root + (share − 1)·(root − lerp(keys))` between the first and last key
@@ -52,10 +59,7 @@ pub fn scale_root_deviation(root: &mut [[f64; 3]], keys: &[Keyframe], share: f64
     }
     let frames = root.len();
     for c in 0..3 {
-        let ks: Vec<&Keyframe> = keys
-            .iter()
-            .filter(|k| k.mask[c] && k.frame < frames)
-            .collect();
+        let ks = keys_giving(keys, c, frames);
         if ks.is_empty() {
             continue;
         }
@@ -94,10 +98,7 @@ pub fn make_keys_exact(motion: &mut Motion, keys: &[Keyframe]) {
     let frames = motion.len();
     // Root, per coordinate.
     for c in 0..3 {
-        let ks: Vec<&Keyframe> = keys
-            .iter()
-            .filter(|k| k.mask[c] && k.frame < frames)
-            .collect();
+        let ks = keys_giving(keys, c, frames);
         if ks.is_empty() {
             continue;
         }
