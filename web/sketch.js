@@ -383,7 +383,7 @@ async function synthesize() {
     const t0 = performance.now();
     const r = await state.client.synthesize({
       keyFrames: keys.map((k) => k.frame), keyChannels: keys.flatMap((k) => k.channels),
-      frames: length, post: $('post').checked, dna: dnaChannels(), method, variation: Number($('variation').value),
+      frames: length, post: $('post').checked, footLock: $('footlock').checked, dna: dnaChannels(), method, variation: Number($('variation').value),
     });
     state.result = { positions: r.positions, frames: r.frames, bvh: r.bvh, method, times: r.times };
     $('method-badge').textContent = method === 'slerp' ? 'SLERP+LERP interpolation baseline' : 'Generative Tweening model';

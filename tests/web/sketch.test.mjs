@@ -80,6 +80,16 @@ test('sketch page: 3 keys, 512 frames, drawn, exported, undoable', async () => {
   assert.ok(diff > 1, `variation 0 should change the motion (max diff ${diff})`);
   assert.deepEqual(errors, []);
   await page.$eval('#variation', (el, v) => { el.value = String(v); el.dispatchEvent(new Event('input')); }, defaultVariation);
+  // Foot locking is off by default; turned on, it runs and changes the motion.
+  assert.equal(await page.$eval('#footlock', (el) => el.checked), false);
+  await page.check('#footlock');
+  await page.evaluate(() => { delete document.body.dataset.synthesized; });
+  await page.click('#synth');
+  await page.waitForSelector('body[data-synthesized="512"]', { timeout: 120_000 });
+  const locked = await sample();
+  assert.ok(full.some((v, i) => v !== locked[i]), 'foot locking should move some joint');
+  assert.deepEqual(errors, []);
+  await page.uncheck('#footlock');
 
   await setFrame(380);
   fs.mkdirSync(path.join(ROOT, 'tests/out'), { recursive: true });
