@@ -83,6 +83,14 @@ pub struct Request {
     pub variation: Option<f32>,
 }
 
+/// The whole-pose keys that carry rotations, with them: what the base and
+/// SLERP+LERP interpolate.
+fn rotation_keys(keys: &[Keyframe]) -> impl Iterator<Item = (&Keyframe, &Vec<Mat3<f64>>)> {
+    keys.iter()
+        .filter(|k| k.mask.iter().all(|m| *m))
+        .filter_map(|k| k.rotations.as_ref().map(|r| (k, r)))
+}
+
 /// Milliseconds spent in each stage.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct StageTimes {
@@ -195,15 +203,8 @@ impl TweenModels {
         // Whole-pose keys with rotations also give the generator their raw
         // RC-FK values (its output is their interpolation plus a correction).
         let d = self.rc.output_dim();
-        let rot_rows: Vec<(usize, Vec<f32>, Vec<bool>)> = req
-            .keys
-            .iter()
-            .filter(|k| k.mask.iter().all(|m| *m))
-            .filter_map(|k| {
-                k.rotations
-                    .as_ref()
-                    .map(|r| (k.frame, self.rc.raw_from_rotations(r), vec![true; d]))
-            })
+        let rot_rows: Vec<(usize, Vec<f32>, Vec<bool>)> = rotation_keys(&req.keys)
+            .map(|(k, r)| (k.frame, self.rc.raw_from_rotations(r), vec![true; d]))
             .collect();
         // Values: the keys' raw values interpolated between keys as the
         // model was trained (the manifest's base); then the distance
@@ -306,11 +307,7 @@ impl TweenModels {
         keys: &[Keyframe],
         variation: f32,
     ) -> Result<()> {
-        let rot_keys: Vec<Keyframe> = keys
-            .iter()
-            .filter(|k| k.rotations.is_some() && k.mask.iter().all(|m| *m))
-            .cloned()
-            .collect();
+        let rot_keys: Vec<Keyframe> = rotation_keys(keys).map(|(k, _)| k.clone()).collect();
         if variation == 1.0 || rot_keys.is_empty() {
             return Ok(());
         }

@@ -24,8 +24,15 @@ pub(super) fn smoothstep(s: f64) -> f64 {
     s * s * (3.0 - 2.0 * s)
 }
 
-/// Bracketing keys (indices into `idx`) and weight for frame t.
+/// Bracketing keys (indices into `frames`) and smoothstep weight for frame t.
 fn bracket(frames: &[usize], t: usize) -> (usize, usize, f64) {
+    let (a, b, s) = bracket_linear(frames, t);
+    (a, b, smoothstep(s))
+}
+
+/// Bracketing keys (indices into `frames`) and linear weight for frame t;
+/// the first or last key alone, weight 0, outside them.
+fn bracket_linear(frames: &[usize], t: usize) -> (usize, usize, f64) {
     let n = frames.len();
     if t <= frames[0] {
         return (0, 0, 0.0);
@@ -36,7 +43,7 @@ fn bracket(frames: &[usize], t: usize) -> (usize, usize, f64) {
     let b = frames.partition_point(|&f| f <= t);
     let a = b - 1;
     let s = (t - frames[a]) as f64 / (frames[b] - frames[a]) as f64;
-    (a, b, smoothstep(s))
+    (a, b, s)
 }
 
 /// The keys inside the motion that give root coordinate `c`.
@@ -66,29 +73,16 @@ pub fn scale_root_deviation(root: &mut [[f64; 3]], keys: &[Keyframe], share: f64
         let fr: Vec<usize> = ks.iter().map(|k| k.frame).collect();
         let val: Vec<f64> = ks.iter().map(|k| k.positions[c] as f64).collect();
         let (first, last) = (fr[0], fr[fr.len() - 1]);
-        let dev = |t: usize, root: &[[f64; 3]]| {
-            let (a, b) = match fr.partition_point(|&f| f <= t) {
-                0 => (0, 0),
-                b if b == fr.len() => (b - 1, b - 1),
-                b => (b - 1, b),
-            };
-            let s = if a == b {
-                0.0
-            } else {
-                (t - fr[a]) as f64 / (fr[b] - fr[a]) as f64
-            };
-            root[t][c] - (val[a] * (1.0 - s) + val[b] * s)
-        };
-        let (d_first, d_last) = (dev(first, root), dev(last, root));
-        for t in 0..frames {
-            let d = if t < first {
-                d_first
-            } else if t > last {
-                d_last
-            } else {
-                dev(t, root)
-            };
-            root[t][c] += (share - 1.0) * d;
+        // Deviation from the lerp, held at the end keys' outside them.
+        let dev: Vec<f64> = (0..frames)
+            .map(|t| {
+                let t = t.clamp(first, last);
+                let (a, b, s) = bracket_linear(&fr, t);
+                root[t][c] - (val[a] * (1.0 - s) + val[b] * s)
+            })
+            .collect();
+        for (r, d) in root.iter_mut().zip(dev) {
+            r[c] += (share - 1.0) * d;
         }
     }
 }
