@@ -19,8 +19,15 @@ export function serve(dir, port = 0, host = '127.0.0.1') {
   const root = path.resolve(dir);
   const data = path.resolve(process.env.DEEPREP_DATA || path.join(root, '..', 'shared', 'data'));
   const server = http.createServer((req, res) => {
-    const url = new URL(req.url, 'http://x');
-    const pathname = decodeURIComponent(url.pathname);
+    // A malformed request (bad percent-escape, odd URL) gets a 400, never
+    // an exception that would stop the server.
+    let pathname;
+    try {
+      pathname = decodeURIComponent(new URL(req.url, 'http://x').pathname);
+    } catch {
+      res.writeHead(400); res.end('bad request'); return;
+    }
+    if (pathname.includes('\0')) { res.writeHead(400); res.end('bad request'); return; }
     let p;
     if (pathname.startsWith('/shared-data/gltf/') && pathname.endsWith('.glb')) {
       p = path.normalize(path.join(data, pathname.slice('/shared-data'.length)));
@@ -29,7 +36,9 @@ export function serve(dir, port = 0, host = '127.0.0.1') {
       p = path.normalize(path.join(root, pathname));
       if (!p.startsWith(root)) { res.writeHead(403); res.end(); return; }
     }
-    if (fs.existsSync(p) && fs.statSync(p).isDirectory()) p = path.join(p, 'index.html');
+    try {
+      if (fs.existsSync(p) && fs.statSync(p).isDirectory()) p = path.join(p, 'index.html');
+    } catch { /* unreadable: readFile below answers 404 */ }
     fs.readFile(p, (err, data) => {
       if (err) { res.writeHead(404); res.end('not found'); return; }
       res.writeHead(200, { 'Content-Type': TYPES[path.extname(p)] || 'application/octet-stream', 'Cache-Control': 'no-cache' });

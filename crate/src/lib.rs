@@ -25,17 +25,19 @@
 
 pub mod error;
 pub mod hair;
+#[cfg(feature = "onnx")]
 pub mod ik;
 pub mod mesh;
 pub mod motion;
 pub mod rcfk;
 pub mod rng;
 pub mod rotation;
+#[cfg(feature = "onnx")]
 pub mod runtime;
 pub mod skeleton;
 pub mod viewer;
 
-#[cfg(target_arch = "wasm32")]
+#[cfg(all(target_arch = "wasm32", feature = "onnx", feature = "gpu"))]
 pub mod wasm;
 
 pub use error::{Error, Result};

@@ -22,6 +22,24 @@ fn model_err(e: impl std::fmt::Display) -> Error {
     Error::Model(format!("{e}"))
 }
 
+/// Runs tract's ONNX import, turning a panic inside tract (it has some on
+/// malformed protobuf, e.g. tract-onnx model.rs:187) into an error.
+/// Natively the panic unwinds and is caught here; in wasm (panic = abort)
+/// it cannot be caught, which is why the JS client loads models in a
+/// worker that it rebuilds after a trap.
+fn guard_tract<T>(f: impl FnOnce() -> Result<T>) -> Result<T> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|p| {
+        let what = p
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| p.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "unknown panic".into());
+        Err(Error::Model(format!(
+            "the ONNX file is malformed (tract panicked: {what})"
+        )))
+    })
+}
+
 /// A dense f32 tensor: data plus shape.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TensorF32 {
@@ -49,11 +67,13 @@ impl TensorF32 {
 impl Model {
     /// Parses an ONNX model from its bytes.
     pub fn from_onnx_bytes(bytes: &[u8]) -> Result<Self> {
-        let mut r = bytes;
-        let inference = tract_onnx::onnx()
-            .model_for_read(&mut r)
-            .map_err(model_err)?;
-        let typed = inference.into_typed().map_err(model_err)?;
+        let typed = guard_tract(|| {
+            let mut r = bytes;
+            let inference = tract_onnx::onnx()
+                .model_for_read(&mut r)
+                .map_err(model_err)?;
+            inference.into_typed().map_err(model_err)
+        })?;
         Ok(Model {
             typed,
             plans: Mutex::new(HashMap::new()),
@@ -70,15 +90,17 @@ impl Model {
     /// number of products folded.
     pub fn from_onnx_bytes_folding_factors(bytes: &[u8]) -> Result<(Self, usize)> {
         use tract_onnx::tract_core::framework::Framework;
-        let onnx = tract_onnx::onnx();
-        let mut r = bytes;
-        let mut proto = onnx.proto_model_for_read(&mut r).map_err(model_err)?;
-        let folded = match proto.graph.as_mut() {
-            Some(g) => fold_constant_matmuls(g)?,
-            None => 0,
-        };
-        let inference = onnx.model_for_proto_model(&proto).map_err(model_err)?;
-        let typed = inference.into_typed().map_err(model_err)?;
+        let (typed, folded) = guard_tract(|| {
+            let onnx = tract_onnx::onnx();
+            let mut r = bytes;
+            let mut proto = onnx.proto_model_for_read(&mut r).map_err(model_err)?;
+            let folded = match proto.graph.as_mut() {
+                Some(g) => fold_constant_matmuls(g)?,
+                None => 0,
+            };
+            let inference = onnx.model_for_proto_model(&proto).map_err(model_err)?;
+            Ok((inference.into_typed().map_err(model_err)?, folded))
+        })?;
         Ok((
             Model {
                 typed,

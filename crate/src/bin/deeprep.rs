@@ -15,6 +15,9 @@ fn emit(s: &str) {
     let _ = std::io::stdout().lock().write_all(s.as_bytes());
 }
 
+/// The most poses `mesh poses` writes per clip, and random poses in all.
+const MAX_CLIP_POSES: usize = 100_000;
+
 const USAGE: &str = "usage:
   deeprep bvh info FILE
   deeprep bvh fk FILE --frame N
@@ -134,6 +137,11 @@ fn mesh_poses(path: &str, rest: &[&str]) -> Result<(), String> {
     if !(fps > 0.0 && fps <= 240.0) {
         return Err(format!("--fps must be in (0, 240], got {fps}"));
     }
+    if random > MAX_CLIP_POSES {
+        return Err(format!(
+            "--random is at most {MAX_CLIP_POSES}, got {random}"
+        ));
+    }
     let (rig, t) = robot(path)?;
     let mut data: Vec<f32> = Vec::new();
     let mut labels = Vec::new();
@@ -148,7 +156,14 @@ fn mesh_poses(path: &str, rest: &[&str]) -> Result<(), String> {
         Ok(())
     };
     for (k, a) in rig.animations.iter().enumerate() {
-        let frames = (a.duration * fps).floor() as usize + 1;
+        let frames = (a.duration as f64 * fps as f64).floor() + 1.0;
+        if !(frames >= 1.0 && frames <= MAX_CLIP_POSES as f64) {
+            return Err(format!(
+                "clip '{}' lasts {} s: at {fps} poses per second that is more than {MAX_CLIP_POSES} poses",
+                a.name, a.duration
+            ));
+        }
+        let frames = frames as usize;
         for f in 0..frames {
             let pose = rig
                 .animation_pose(k, f as f32 / fps)
@@ -265,6 +280,12 @@ fn info(path: &str) -> Result<(), String> {
 
 fn fk_cmd(path: &str, frame: usize) -> Result<(), String> {
     let b = load(path)?;
+    if frame >= b.frame_count() {
+        return Err(format!(
+            "--frame {frame} is outside the clip's {} frames",
+            b.frame_count()
+        ));
+    }
     let p = fk::positions(&b, frame, frame + 1).map_err(|e| e.to_string())?;
     let mut o = String::new();
     for (i, j) in b.joints.iter().enumerate() {
@@ -575,45 +596,15 @@ fn inbetween(args: &[&str]) -> Result<(), String> {
         .clone()
         .unwrap_or_else(|| "models/examples/keys.json".into());
     let text = std::fs::read_to_string(&keys_path).map_err(|e| format!("{keys_path}: {e}"))?;
-    let v: serde_json::Value =
-        serde_json::from_str(&text).map_err(|e| format!("{keys_path}: {e}"))?;
     let models = deeprep::motion::pipeline::TweenModels::load_dir(std::path::Path::new(&o.models))
         .map_err(|e| e.to_string())?;
     let tpl = &models.template;
-    let mut keys = Vec::new();
-    for (i, k) in v["keys"]
-        .as_array()
-        .ok_or(format!("{keys_path}: expected a \"keys\" array"))?
-        .iter()
-        .enumerate()
-    {
-        let frame = k["frame"]
-            .as_u64()
-            .ok_or(format!("{keys_path}: key {i} lacks \"frame\""))? as usize;
-        let ch: Vec<f32> = k["channels"]
-            .as_array()
-            .ok_or(format!("{keys_path}: key {i} lacks \"channels\""))?
-            .iter()
-            .map(|x| {
-                x.as_f64()
-                    .map(|x| x as f32)
-                    .ok_or(format!("{keys_path}: key {i}: channels must be numbers"))
-            })
-            .collect::<Result<_, _>>()?;
-        if ch.len() != tpl.channel_count() {
-            return Err(format!(
-                "{keys_path}: key {i} has {} channels; the skeleton has {}",
-                ch.len(),
-                tpl.channel_count()
-            ));
-        }
-        let mut one = tpl.clone();
-        one.motion = ch;
-        keys.push(Keyframe::from_bvh(&one, 0, frame).map_err(|e| e.to_string())?);
-    }
+    let file =
+        deeprep::motion::keys::from_json(&text, tpl).map_err(|e| format!("{keys_path}: {e}"))?;
+    let keys = file.keys;
     let frames = o
         .frames
-        .or(v["frames"].as_u64().map(|f| f as usize))
+        .or(file.frames)
         .ok_or("--frames N is required (or \"frames\" in the keys file)")?;
     let dna = dna_poses(&o, None, frames)?;
     let (motion, info) = synthesize(&o, &keys, frames, dna)?;
@@ -757,6 +748,11 @@ fn hair_dataset(rest: &[&str]) -> Result<(), String> {
     let seed: u64 = parse_opt(&o, "seed", 1)?;
     if base == 0 || views == 0 || size < 8 {
         return Err("--base and --views must be at least 1, --size at least 8".into());
+    }
+    if base > 10_000 || blends > 100 || views > 100 || size > MAX_IMAGE_SIZE {
+        return Err(format!(
+            "--base is at most 10000, --blends and --views at most 100, --size at most {MAX_IMAGE_SIZE}"
+        ));
     }
     let (body, scalp) = (Body::default(), Scalp::default());
     let mut rng = deeprep::rng::Rng::new(seed);

@@ -23,7 +23,9 @@
 
 pub mod body;
 pub mod generator;
+#[cfg(all(feature = "gpu", feature = "onnx"))]
 pub mod gpu;
+#[cfg(feature = "onnx")]
 pub mod model;
 pub mod orientation;
 pub mod render;
@@ -33,8 +35,9 @@ pub mod upsample;
 
 pub use body::{Body, Ellipsoid};
 pub use generator::{Curl, Hair, HairClass, Length, Style};
+#[cfg(feature = "onnx")]
 pub use model::{blend_features, HairModel, Reconstruct, StrandDecoding, Strands};
-pub use render::{render, Render, View};
+pub use render::{render, Render, View, MAX_IMAGE_SIZE};
 pub use scalp::Scalp;
 
 /// Points per strand (M in the thesis).

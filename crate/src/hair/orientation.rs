@@ -64,7 +64,8 @@ impl Gabor {
         w: usize,
         h: usize,
     ) -> Result<(Vec<f32>, Vec<f32>)> {
-        if grey.len() != w * h || mask.len() != w * h || w == 0 || h == 0 {
+        let px = w.checked_mul(h);
+        if px.is_none() || Some(grey.len()) != px || Some(mask.len()) != px || w == 0 || h == 0 {
             return Err(Error::Shape {
                 what: "orientation image".into(),
                 expected: format!("{w} × {h} grey values and mask flags"),
@@ -127,7 +128,7 @@ impl Gabor {
 /// Bilinear resampling of a `w` × `h` single-channel image to `s` × `s`.
 pub fn resample(src: &[f32], w: usize, h: usize, s: usize) -> Vec<f32> {
     let mut out = vec![0.0f32; s * s];
-    if w == 0 || h == 0 || src.len() != w * h {
+    if w == 0 || h == 0 || w.checked_mul(h) != Some(src.len()) {
         return out;
     }
     for y in 0..s {
@@ -145,6 +146,9 @@ pub fn resample(src: &[f32], w: usize, h: usize, s: usize) -> Vec<f32> {
     out
 }
 
+/// The largest photo side [`network_input`] accepts, in pixels.
+pub const MAX_PHOTO_SIDE: usize = 8192;
+
 /// The network input (3 × 256 × 256) from a photo: `grey` (`w` × `h`, any
 /// scale), `hair` and optional `body` masks (values > 0.5 are set). The
 /// image is resampled to 256 × 256 first, as the thesis crops and scales
@@ -157,6 +161,12 @@ pub fn network_input(
     h: usize,
     bank: &Gabor,
 ) -> Result<Vec<f32>> {
+    if w == 0 || h == 0 || w > MAX_PHOTO_SIDE || h > MAX_PHOTO_SIDE {
+        return Err(Error::Invalid(format!(
+            "photo: {w} × {h} pixels; each side must be in 1..={MAX_PHOTO_SIDE}"
+        )));
+    }
+    // w × h ≤ 2^26 now, so the product cannot wrap even on 32-bit targets.
     if grey.len() != w * h || hair.len() != w * h || body.is_some_and(|b| b.len() != w * h) {
         return Err(Error::Shape {
             what: "photo".into(),

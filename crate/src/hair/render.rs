@@ -102,8 +102,11 @@ pub struct Render {
     pub visible: Vec<bool>,
 }
 
+/// The largest image side [`render`] and the photo input accept, in pixels.
+pub const MAX_IMAGE_SIZE: usize = 4096;
+
 /// Renders strands (absolute points, [`POINTS`] per strand) and the body
-/// seen from `view` at `size` × `size` pixels.
+/// seen from `view` at `size` × `size` pixels (at most [`MAX_IMAGE_SIZE`]).
 pub fn render(
     points: &[P],
     body: &Body,
@@ -111,9 +114,9 @@ pub fn render(
     size: usize,
     rng: &mut Rng,
 ) -> Result<Render> {
-    if size < 8 || !points.len().is_multiple_of(POINTS) {
+    if !(8..=MAX_IMAGE_SIZE).contains(&size) || !points.len().is_multiple_of(POINTS) {
         return Err(Error::Invalid(format!(
-            "hair render: size {size} must be ≥ 8 and points ({}) a multiple of {POINTS}",
+            "hair render: size {size} must be in 8..={MAX_IMAGE_SIZE} and points ({}) a multiple of {POINTS}",
             points.len()
         )));
     }

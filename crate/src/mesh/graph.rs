@@ -177,6 +177,11 @@ pub fn weld(positions: &[[f32; 3]], eps: f32) -> (Vec<usize>, usize) {
     (map, n)
 }
 
+/// The most connected components [`connect_components`] joins.
+pub const MAX_COMPONENTS: usize = 1024;
+/// The most vertex pairs (in different components) it compares.
+pub const MAX_PAIR_WORK: u128 = 400_000_000;
+
 /// Connects the components of `graph` (thesis Sec. 2.3.5: "an edge between
 /// each pair of close components"): every pair of components whose closest
 /// vertices are within `near` gets an edge between those vertices; then,
@@ -199,6 +204,17 @@ pub fn connect_components(
     let mut members = vec![Vec::new(); k];
     for (v, &c) in label.iter().enumerate() {
         members[c].push(v);
+    }
+    // Every pair of components compares all their vertex pairs: bound that
+    // work (and the pair list) before starting, so a mesh of many separate
+    // pieces is an error, not minutes and gigabytes.
+    let n = graph.len() as u128;
+    let same: u128 = members.iter().map(|m| (m.len() as u128).pow(2)).sum();
+    let work = (n * n - same) / 2;
+    if k > MAX_COMPONENTS || work > MAX_PAIR_WORK {
+        return Err(Error::Invalid(format!(
+            "connect_components: {k} separate pieces ({work} vertex pairs to compare); at most {MAX_COMPONENTS} pieces and {MAX_PAIR_WORK} pairs are joined"
+        )));
     }
     let d2 = |a: usize, b: usize| -> f32 {
         (0..3)

@@ -11,12 +11,14 @@
 //!   alone (Sec. 2.2.1, Appendix A.1.2), emitted as the padded index/mask
 //!   tables of Appendix A.1.1 for the training code.
 
+#[cfg(feature = "onnx")]
 pub mod codec;
 pub mod graph;
 pub mod rig;
 pub mod sampling;
 pub mod topology;
 
+#[cfg(feature = "onnx")]
 pub use codec::MeshCodec;
 pub use graph::Graph;
 pub use rig::Rig;

@@ -6,6 +6,8 @@
 
 use crate::error::{Error, Result};
 use glam::{Mat4, Quat, Vec3};
+use gltf::accessor::DataType::{F32, I16, I8, U16, U32, U8};
+use gltf::accessor::Dimensions::{Mat4 as Mat4x4, Scalar, Vec3 as Vec3x, Vec4 as Vec4x};
 
 /// A node's local transform.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -72,6 +74,8 @@ pub struct Rig {
     pub node_names: Vec<String>,
     /// Parent per node.
     pub parents: Vec<Option<usize>>,
+    /// Every node once, each after its parent.
+    order: Vec<usize>,
     /// Rest (bind) local transforms.
     pub rest: Vec<Trs>,
     /// Triangles of the merged mesh.
@@ -88,9 +92,135 @@ fn gltf_err(e: impl std::fmt::Display) -> Error {
     Error::Invalid(format!("glTF: {e}"))
 }
 
+/// Checks that the gltf crates (1.4.1) would panic on, before they see the
+/// bytes (both found by `scripts/fuzz.sh`, target gltf_rig):
+/// - a GLB header whose length is under the header's 12 bytes (gltf's
+///   binary.rs:252 subtracts without checking);
+/// - a primitive whose POSITION names an accessor that does not exist
+///   (gltf-json's mesh.rs:151 indexes it during validation);
+/// - an animation channel whose target node does not exist or whose path
+///   is unknown (gltf-json does not validate channels; gltf's
+///   animation/mod.rs:211 unwraps them).
+///
+/// Other problems are left to the gltf crate's own errors.
+fn check_position_accessors(bytes: &[u8]) -> Result<()> {
+    if bytes.len() >= 12 && &bytes[..4] == b"glTF" {
+        let length = u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]);
+        if length < 12 {
+            return Err(gltf_err(format!(
+                "the GLB header gives a length of {length} bytes, less than the header itself"
+            )));
+        }
+    }
+    let json = match gltf::Glb::from_slice(bytes) {
+        Ok(glb) => glb.json,
+        Err(_) => std::borrow::Cow::Borrowed(bytes),
+    };
+    let Ok(v) = serde_json::from_slice::<serde_json::Value>(&json) else {
+        return Ok(());
+    };
+    let accessors = v["accessors"].as_array().map_or(0, |a| a.len());
+    for (m, mesh) in v["meshes"].as_array().into_iter().flatten().enumerate() {
+        for prim in mesh["primitives"].as_array().into_iter().flatten() {
+            if let Some(i) = prim["attributes"]["POSITION"].as_u64() {
+                if i >= accessors as u64 {
+                    return Err(gltf_err(format!(
+                        "mesh {m}: POSITION names accessor {i}, but there are {accessors}"
+                    )));
+                }
+            }
+        }
+    }
+    let nodes = v["nodes"].as_array().map_or(0, |a| a.len());
+    for (a, anim) in v["animations"].as_array().into_iter().flatten().enumerate() {
+        for ch in anim["channels"].as_array().into_iter().flatten() {
+            let t = &ch["target"];
+            if let Some(n) = t["node"].as_u64() {
+                if n >= nodes as u64 {
+                    return Err(gltf_err(format!(
+                        "animation {a} targets node {n}, but there are {nodes}"
+                    )));
+                }
+            }
+            if let Some(p) = t["path"].as_str() {
+                if !["translation", "rotation", "scale", "weights"].contains(&p) {
+                    return Err(gltf_err(format!(
+                        "animation {a} targets an unknown property '{p}'"
+                    )));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Checks an accessor before the gltf crate reads it: its element type and
+/// component type are among those expected, it has at least one element,
+/// it is not sparse (not needed here), and its buffer view's stride holds
+/// an element. gltf 1.4.1's readers assume all of this (debug assertions
+/// and an unchecked `count - 1` in accessor/util.rs; found by
+/// `scripts/fuzz.sh`, target gltf_rig).
+fn check_accessor(
+    a: &gltf::Accessor,
+    what: &str,
+    dims: &[gltf::accessor::Dimensions],
+    types: &[gltf::accessor::DataType],
+) -> Result<()> {
+    if !dims.contains(&a.dimensions()) || !types.contains(&a.data_type()) {
+        return Err(gltf_err(format!(
+            "{what}: accessor {} is {:?} of {:?}, expected one of {dims:?} of {types:?}",
+            a.index(),
+            a.dimensions(),
+            a.data_type()
+        )));
+    }
+    if a.count() == 0 || a.sparse().is_some() {
+        return Err(gltf_err(format!(
+            "{what}: accessor {} is empty or sparse",
+            a.index()
+        )));
+    }
+    if let Some(stride) = a.view().and_then(|v| v.stride()) {
+        if stride < a.size() {
+            return Err(gltf_err(format!(
+                "{what}: accessor {} has elements of {} bytes but a stride of {stride}",
+                a.index(),
+                a.size()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Every node once, each after its parent (breadth-first from the roots);
+/// an error when the parent links form a cycle, which glTF forbids.
+fn parents_first(parents: &[Option<usize>]) -> Result<Vec<usize>> {
+    let mut children = vec![Vec::new(); parents.len()];
+    let mut order = Vec::with_capacity(parents.len());
+    for (i, p) in parents.iter().enumerate() {
+        match p {
+            Some(p) => children[*p].push(i),
+            None => order.push(i),
+        }
+    }
+    let mut k = 0;
+    while k < order.len() {
+        order.extend_from_slice(&children[order[k]]);
+        k += 1;
+    }
+    if order.len() < parents.len() {
+        return Err(gltf_err(format!(
+            "{} nodes form a cycle of parent links",
+            parents.len() - order.len()
+        )));
+    }
+    Ok(order)
+}
+
 impl Rig {
     /// Reads a binary glTF (.glb) with its embedded buffer.
     pub fn from_glb(bytes: &[u8]) -> Result<Rig> {
+        check_position_accessors(bytes)?;
         let g = gltf::Gltf::from_slice(bytes).map_err(gltf_err)?;
         let blob = g.blob.as_deref();
         let data = |b: gltf::Buffer| -> Option<&[u8]> {
@@ -104,9 +234,17 @@ impl Rig {
         let mut parents = vec![None; n];
         for node in doc.nodes() {
             for c in node.children() {
-                parents[c.index()] = Some(node.index());
+                let ci = c.index();
+                if ci == node.index() {
+                    return Err(gltf_err(format!("node {ci} is its own child")));
+                }
+                if parents[ci].is_some() {
+                    return Err(gltf_err(format!("node {ci} has two parents")));
+                }
+                parents[ci] = Some(node.index());
             }
         }
+        let order = parents_first(&parents)?;
         let rest: Vec<Trs> = doc
             .nodes()
             .map(|node| {
@@ -121,6 +259,9 @@ impl Rig {
         let mut skins = Vec::new();
         for skin in doc.skins() {
             let joints: Vec<usize> = skin.joints().map(|j| j.index()).collect();
+            if let Some(a) = skin.inverse_bind_matrices() {
+                check_accessor(&a, "inverse bind matrices", &[Mat4x4], &[F32])?;
+            }
             let inverse_bind: Vec<Mat4> = match skin.reader(data).read_inverse_bind_matrices() {
                 Some(it) => it.map(|m| Mat4::from_cols_array_2d(&m)).collect(),
                 None => vec![Mat4::IDENTITY; joints.len()],
@@ -138,6 +279,19 @@ impl Rig {
             for prim in mesh.primitives() {
                 if prim.mode() != gltf::mesh::Mode::Triangles {
                     continue;
+                }
+                use gltf::mesh::Semantic;
+                if let Some(a) = prim.get(&Semantic::Positions) {
+                    check_accessor(&a, "POSITION", &[Vec3x], &[F32])?;
+                }
+                if let Some(a) = prim.indices() {
+                    check_accessor(&a, "indices", &[Scalar], &[U8, U16, U32])?;
+                }
+                if let Some(a) = prim.get(&Semantic::Joints(0)) {
+                    check_accessor(&a, "JOINTS_0", &[Vec4x], &[U8, U16])?;
+                }
+                if let Some(a) = prim.get(&Semantic::Weights(0)) {
+                    check_accessor(&a, "WEIGHTS_0", &[Vec4x], &[F32, U8, U16])?;
                 }
                 let r = prim.reader(data);
                 let positions: Vec<Vec3> = r
@@ -168,6 +322,14 @@ impl Rig {
                         .ok_or_else(|| gltf_err("a skinned primitive has no WEIGHTS_0"))?
                         .into_f32()
                         .collect();
+                    if j.len() != positions.len() || w.len() != positions.len() {
+                        return Err(gltf_err(format!(
+                            "a skinned primitive has {} positions but {} joint and {} weight entries",
+                            positions.len(),
+                            j.len(),
+                            w.len()
+                        )));
+                    }
                     (j, w)
                 } else {
                     (Vec::new(), Vec::new())
@@ -190,6 +352,14 @@ impl Rig {
             let mut channels = Vec::new();
             let mut duration = 0.0f32;
             for ch in a.channels() {
+                let sampler = ch.sampler();
+                check_accessor(&sampler.input(), "animation times", &[Scalar], &[F32])?;
+                check_accessor(
+                    &sampler.output(),
+                    "animation values",
+                    &[Scalar, Vec3x, Vec4x],
+                    &[F32, I8, U8, I16, U16],
+                )?;
                 let r = ch.reader(data);
                 let times: Vec<f32> = match r.read_inputs() {
                     Some(t) => t.collect(),
@@ -241,6 +411,7 @@ impl Rig {
                 .map(|n| n.name().unwrap_or("").to_string())
                 .collect(),
             parents,
+            order,
             rest,
             triangles,
             vertex_part,
@@ -334,29 +505,17 @@ impl Rig {
         Ok((local, k, time))
     }
 
-    /// Global node transforms for local transforms `local`.
+    /// Global node transforms for local transforms `local` (one per node),
+    /// parents first, without recursion.
     pub fn globals(&self, local: &[Trs]) -> Vec<Mat4> {
-        let n = self.parents.len();
-        let mut g: Vec<Option<Mat4>> = vec![None; n];
-        fn resolve(
-            i: usize,
-            parents: &[Option<usize>],
-            local: &[Trs],
-            g: &mut [Option<Mat4>],
-        ) -> Mat4 {
-            if let Some(m) = g[i] {
-                return m;
-            }
-            let m = match parents[i] {
-                Some(p) => resolve(p, parents, local, g) * local[i].matrix(),
+        let mut g = vec![Mat4::IDENTITY; self.parents.len()];
+        for &i in &self.order {
+            g[i] = match self.parents[i] {
+                Some(p) => g[p] * local[i].matrix(),
                 None => local[i].matrix(),
             };
-            g[i] = Some(m);
-            m
         }
-        (0..n)
-            .map(|i| resolve(i, &self.parents, local, &mut g))
-            .collect()
+        g
     }
 
     /// Vertex positions of the merged mesh for local transforms `local`:

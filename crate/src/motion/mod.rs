@@ -7,12 +7,15 @@
 //!   post-processing, on ONNX models run by tract.
 //! - [`baseline`]: SLERP+LERP and zero-velocity.
 //! - [`post`]: the correction that makes keyframes exact (Sec. 5.2.6).
+//! - [`keys`]: the keys file (JSON) of the CLI and the examples.
 //! - [`feet`]: foot locking (contacts pinned by two-bone IK; not in the thesis).
 
 pub mod baseline;
 pub mod dense;
 pub mod dna;
 pub mod feet;
+pub mod keys;
+#[cfg(feature = "onnx")]
 pub mod pipeline;
 pub mod post;
 pub mod spline;
@@ -21,6 +24,21 @@ use crate::error::{Error, Result};
 use crate::rotation::euler::{matrix_to_euler, Axis, EulerOrder, Frame};
 use crate::rotation::{mul_vec, Mat3};
 use crate::skeleton::{fk, Bvh};
+
+/// The longest motion deeprep synthesizes or interpolates: 36,000 frames
+/// (10 minutes at 60 fps). Longer requests are errors, so memory and time
+/// stay bounded whatever a caller asks for.
+pub const MAX_FRAMES: usize = 36_000;
+
+/// Checks a requested motion length against [`MAX_FRAMES`].
+pub fn check_frames(frames: usize) -> Result<()> {
+    if frames > MAX_FRAMES {
+        return Err(Error::Invalid(format!(
+            "{frames} frames requested; deeprep synthesizes at most {MAX_FRAMES} (10 minutes at 60 fps)"
+        )));
+    }
+    Ok(())
+}
 
 /// A keyframe.
 #[derive(Clone, Debug)]
@@ -225,6 +243,7 @@ pub fn dna_pose(k: &Keyframe) -> Vec<f32> {
 /// Checks a key set against a length and a joint count: sorted, unique,
 /// inside the length, finite, the right size.
 pub fn validate_keys(keys: &[Keyframe], frames: usize, joints: usize) -> Result<()> {
+    check_frames(frames)?;
     if keys.is_empty() {
         return Err(Error::Invalid("no keyframes given".into()));
     }

@@ -157,7 +157,7 @@ impl Bvh {
         s.push_str("HIERARCHY\n");
         let children = self.children();
         if !self.joints.is_empty() {
-            self.write_joint(&mut s, 0, 0, &children);
+            self.write_joint(&mut s, 0, &children);
         }
         let _ = writeln!(
             s,
@@ -180,41 +180,62 @@ impl Bvh {
         s
     }
 
-    fn write_joint(&self, s: &mut String, j: usize, depth: usize, children: &[Vec<usize>]) {
-        let ind = "  ".repeat(depth);
-        let joint = &self.joints[j];
-        let o = joint.offset;
-        if joint.end_site {
+    /// Writes the joint tree below `root` depth-first with an explicit
+    /// stack (no recursion), indenting at most [`MAX_INDENT`] levels.
+    fn write_joint(&self, s: &mut String, root: usize, children: &[Vec<usize>]) {
+        // (joint, depth, opening): a joint is visited once to open it and
+        // once, after its children, to close it.
+        let mut stack = vec![(root, 0usize, true)];
+        while let Some((j, depth, opening)) = stack.pop() {
+            let ind = "  ".repeat(depth.min(MAX_INDENT));
+            let joint = &self.joints[j];
+            if !opening {
+                let _ = writeln!(s, "{ind}}}");
+                continue;
+            }
+            let o = joint.offset;
+            if joint.end_site {
+                let _ = writeln!(
+                    s,
+                    "{ind}End Site\n{ind}{{\n{ind}  OFFSET {} {} {}\n{ind}}}",
+                    o[0], o[1], o[2]
+                );
+                continue;
+            }
+            let kw = if joint.parent.is_none() {
+                "ROOT"
+            } else {
+                "JOINT"
+            };
             let _ = writeln!(
                 s,
-                "{ind}End Site\n{ind}{{\n{ind}  OFFSET {} {} {}\n{ind}}}",
-                o[0], o[1], o[2]
+                "{ind}{kw} {}\n{ind}{{\n{ind}  OFFSET {} {} {}",
+                joint.name, o[0], o[1], o[2]
             );
-            return;
+            let names: Vec<&str> = joint.channels.iter().map(|c| c.name()).collect();
+            let _ = writeln!(s, "{ind}  CHANNELS {} {}", names.len(), names.join(" "));
+            stack.push((j, depth, false));
+            for &c in children[j].iter().rev() {
+                stack.push((c, depth + 1, true));
+            }
         }
-        let kw = if joint.parent.is_none() {
-            "ROOT"
-        } else {
-            "JOINT"
-        };
-        let _ = writeln!(
-            s,
-            "{ind}{kw} {}\n{ind}{{\n{ind}  OFFSET {} {} {}",
-            joint.name, o[0], o[1], o[2]
-        );
-        let names: Vec<&str> = joint.channels.iter().map(|c| c.name()).collect();
-        let _ = writeln!(s, "{ind}  CHANNELS {} {}", names.len(), names.join(" "));
-        for &c in &children[j] {
-            self.write_joint(s, c, depth + 1, children);
-        }
-        let _ = writeln!(s, "{ind}}}");
     }
 }
 
 struct Parser<'a> {
     lines: std::iter::Peekable<std::iter::Enumerate<std::str::Lines<'a>>>,
     line_no: usize,
+    text_len: usize,
 }
+
+/// The most joints (End Sites included) a BVH file may declare. Real
+/// skeletons have tens to a few hundred.
+pub const MAX_JOINTS: usize = 4096;
+
+/// Writing indents by depth up to this many levels; deeper joints are
+/// written at this indentation (BVH ignores it), so output stays linear in
+/// the joint count however deep the tree.
+const MAX_INDENT: usize = 32;
 
 fn err<T>(line: usize, message: impl Into<String>) -> Result<T> {
     Err(Error::Parse {
@@ -228,6 +249,7 @@ impl<'a> Parser<'a> {
         Parser {
             lines: text.lines().enumerate().peekable(),
             line_no: 0,
+            text_len: text.len(),
         }
     }
 
@@ -283,7 +305,7 @@ impl<'a> Parser<'a> {
         if name.is_empty() {
             return err(self.line_no, "expected a joint name after ROOT");
         }
-        self.parse_joint_body(&mut joints, name, None, false, &mut channel_total)?;
+        self.parse_hierarchy(&mut joints, name, &mut channel_total)?;
         let line = self.expect_line("MOTION")?;
         if line != "MOTION" {
             return err(
@@ -319,7 +341,15 @@ impl<'a> Parser<'a> {
                 )
             }
         };
-        let mut motion = Vec::with_capacity(frames * channel_total);
+        // The header's count is not trusted for memory: reserve no more than
+        // the rest of the text could hold (a value takes at least two bytes).
+        let values = frames
+            .checked_mul(channel_total)
+            .ok_or_else(|| Error::Parse {
+                line: self.line_no,
+                message: format!("{frames} frames of {channel_total} channels is too large"),
+            })?;
+        let mut motion = Vec::with_capacity(values.min(self.text_len / 2));
         for f in 0..frames {
             let line = match self.next_line() {
                 Some(l) => l,
@@ -359,14 +389,22 @@ impl<'a> Parser<'a> {
         })
     }
 
-    fn parse_joint_body(
+    /// Reads one joint's (or End Site's) opening: `{`, `OFFSET`, and for a
+    /// joint its `CHANNELS` line. Pushes the joint and returns its index.
+    fn open_joint(
         &mut self,
         joints: &mut Vec<Joint>,
         name: String,
         parent: Option<usize>,
         end_site: bool,
         channel_total: &mut usize,
-    ) -> Result<()> {
+    ) -> Result<usize> {
+        if joints.len() >= MAX_JOINTS {
+            return err(
+                self.line_no,
+                format!("more than {MAX_JOINTS} joints; deeprep reads skeletons up to that size"),
+            );
+        }
         let line = self.expect_line("'{'")?;
         if line != "{" {
             return err(
@@ -404,7 +442,7 @@ impl<'a> Parser<'a> {
                     format!("expected '}}' to close End Site of '{name}', found '{line}'"),
                 );
             }
-            return Ok(());
+            return Ok(index);
         }
         let line = self.expect_line("CHANNELS")?;
         let toks: Vec<&str> = line.split_whitespace().collect();
@@ -414,24 +452,31 @@ impl<'a> Parser<'a> {
                 format!("expected 'CHANNELS <n> ...' for '{name}', found '{line}'"),
             );
         }
-        let n: usize = match toks[1].parse() {
-            Ok(n) => n,
+        let listed = toks.len() - 2;
+        match toks[1].parse::<usize>() {
+            Ok(n) if n == listed => {}
+            Ok(n) => {
+                return err(
+                    self.line_no,
+                    format!("CHANNELS says {n} channels but lists {listed}"),
+                )
+            }
             Err(_) => {
                 return err(
                     self.line_no,
                     format!("expected a channel count, found '{}'", toks[1]),
                 )
             }
-        };
-        if toks.len() != n + 2 {
-            return err(
-                self.line_no,
-                format!("CHANNELS says {n} channels but lists {}", toks.len() - 2),
-            );
         }
-        let mut channels = Vec::with_capacity(n);
+        let mut channels: Vec<Channel> = Vec::with_capacity(listed.min(6));
         for t in &toks[2..] {
             match Channel::parse(t) {
+                Some(c) if channels.contains(&c) => {
+                    return err(
+                        self.line_no,
+                        format!("joint '{name}' lists channel {} twice", c.name()),
+                    )
+                }
                 Some(c) => channels.push(c),
                 None => {
                     return err(
@@ -441,28 +486,45 @@ impl<'a> Parser<'a> {
                 }
             }
         }
-        *channel_total += n;
+        // Each of the six channels at most once (checked above), so a joint
+        // has at most three rotation and three position channels.
+        *channel_total += channels.len();
         joints[index].channels = channels;
-        loop {
+        Ok(index)
+    }
+
+    /// The joint tree after `ROOT <name>`, read with an explicit stack of
+    /// open joints (no recursion: nesting depth is bounded only by the
+    /// joint limit, never by the call stack).
+    fn parse_hierarchy(
+        &mut self,
+        joints: &mut Vec<Joint>,
+        root: String,
+        channel_total: &mut usize,
+    ) -> Result<()> {
+        let mut open = vec![self.open_joint(joints, root, None, false, channel_total)?];
+        while let Some(&top) = open.last() {
             let line = self.expect_line("JOINT, End Site or '}'")?;
             if line == "}" {
-                return Ok(());
-            }
-            if let Some(rest) = line.strip_prefix("JOINT") {
+                open.pop();
+            } else if let Some(rest) = line.strip_prefix("JOINT") {
                 let child = rest.trim().to_string();
                 if child.is_empty() {
                     return err(self.line_no, "expected a joint name after JOINT");
                 }
-                self.parse_joint_body(joints, child, Some(index), false, channel_total)?;
+                let j = self.open_joint(joints, child, Some(top), false, channel_total)?;
+                open.push(j);
             } else if line.starts_with("End Site") || line == "End" {
-                let nub = format!("{name}_Nub");
-                self.parse_joint_body(joints, nub, Some(index), true, channel_total)?;
+                let nub = format!("{}_Nub", joints[top].name);
+                self.open_joint(joints, nub, Some(top), true, channel_total)?;
             } else {
+                let name = &joints[top].name;
                 return err(
                     self.line_no,
                     format!("expected JOINT, End Site or '}}' inside '{name}', found '{line}'"),
                 );
             }
         }
+        Ok(())
     }
 }

@@ -12,11 +12,13 @@
 //! rebuilds the [`scene::Scene`] each frame.
 
 pub mod camera;
-#[cfg(not(target_arch = "wasm32"))]
+#[cfg(all(feature = "gpu", not(target_arch = "wasm32")))]
 pub mod headless;
+#[cfg(feature = "gpu")]
 pub mod renderer;
 pub mod scene;
 
 pub use camera::OrbitCamera;
+#[cfg(feature = "gpu")]
 pub use renderer::Renderer;
 pub use scene::{pick_joint, Grid, LineStrips, Scene, SkeletonPose, TriMesh};
