@@ -11,6 +11,9 @@ section() { printf '\n==== %s (t+%ss)\n' "$*" "$(( $(date +%s) - t_start ))"; }
 section "native: cargo test"
 cargo test --workspace
 
+section "fuzz: smoke (10^4 executions per target; full runs: bash scripts/fuzz.sh --runs 1000000)"
+bash scripts/fuzz.sh --runs 10000
+
 section "parity: onnxruntime against committed fixtures"
 .venv/bin/python -m pytest -q tests/parity
 
