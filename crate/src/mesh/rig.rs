@@ -116,7 +116,9 @@ fn check_position_accessors(bytes: &[u8]) -> Result<()> {
         Ok(glb) => glb.json,
         Err(_) => std::borrow::Cow::Borrowed(bytes),
     };
-    let Ok(v) = serde_json::from_slice::<serde_json::Value>(&json) else {
+    // gltf-json skips unknown keys without checking their UTF-8, so read the
+    // text the same way (a stray byte in an unknown key must not hide the rest).
+    let Ok(v) = serde_json::from_str::<serde_json::Value>(&String::from_utf8_lossy(&json)) else {
         return Ok(());
     };
     let accessors = v["accessors"].as_array().map_or(0, |a| a.len());
@@ -354,12 +356,15 @@ impl Rig {
             for ch in a.channels() {
                 let sampler = ch.sampler();
                 check_accessor(&sampler.input(), "animation times", &[Scalar], &[F32])?;
-                check_accessor(
-                    &sampler.output(),
-                    "animation values",
-                    &[Scalar, Vec3x, Vec4x],
-                    &[F32, I8, U8, I16, U16],
-                )?;
+                {
+                    use gltf::animation::Property;
+                    let (dims, types): (&[_], &[_]) = match ch.target().property() {
+                        Property::Translation | Property::Scale => (&[Vec3x], &[F32]),
+                        Property::Rotation => (&[Vec4x], &[F32, I8, U8, I16, U16]),
+                        Property::MorphTargetWeights => (&[Scalar], &[F32, I8, U8, I16, U16]),
+                    };
+                    check_accessor(&sampler.output(), "animation values", dims, types)?;
+                }
                 let r = ch.reader(data);
                 let times: Vec<f32> = match r.read_inputs() {
                     Some(t) => t.collect(),
