@@ -415,21 +415,18 @@ function exportBvh() {
 
 async function importBvh(file) {
   try {
-    const clip = BvhClip.fromBytes(new Uint8Array(await file.arrayBuffer()));
-    const names = clip.jointNames;
-    if (names.length !== state.skeleton.names.length || names.some((n, i) => n !== state.skeleton.names[i])) {
-      clip.free();
-      throw new Error(`${file.name}: its skeleton (${names.length} joints) is not the model's (${state.skeleton.names.length} joints)`);
-    }
+    // Parsed and checked in the synthesis worker: a hostile file can at worst
+    // cost that worker (which the client replaces), never this page.
+    const clip = await state.client.importBvh(new Uint8Array(await file.arrayBuffer()))
+      .catch((e) => { throw new Error(`${file.name}: ${e.message}`); });
     const c = clip.channelCount, m = clip.motion, step = Math.max(1, Math.round(0.5 / clip.frameTime));
     let added = 0;
     for (let f = 0; f < clip.frameCount; f += step) {
       state.library.push({ name: `${file.name} @${f}`, channels: Array.from(m.subarray(f * c, (f + 1) * c)) });
       added++;
     }
-    state.result = { positions: clip.fkPositions(0, clip.frameCount), frames: clip.frameCount, bvh: clip.toBvh(), method: 'imported' };
+    state.result = { positions: clip.positions, frames: clip.frameCount, bvh: clip.bvh, method: 'imported' };
     $('method-badge').textContent = `imported ${file.name}`;
-    clip.free();
     fillLibrary();
     setStatus(`imported ${file.name}: ${added} poses added to the library`);
     draw();

@@ -1,33 +1,98 @@
 // deeprep synthesis worker: loads the wasm package and the in-betweening
 // models off the main thread, and answers requests with progress events.
-//   -> {type: 'init', modelBase}
+//   -> {type: 'init', modelBase, models}   (modelBase: an absolute URL of a folder with the
+//      model files; models: their bytes {generator, path, manifest}; neither: the copies
+//      shipped beside this file in the npm package, models/)
 //   <- {type: 'ready', skeletonBvh, hasModel, defaultVariation, modelError}
 //   -> {type: 'synthesize', id, keyFrames, keyChannels, frames, post, dna, method, variation, footLock}
 //   <- {type: 'progress', id, stage, fraction}  ...  {type: 'result', id, ...} | {type: 'error', id, message}
 //   -> {type: 'rcAngles', id, channels, joint} / {type: 'setRcAngles', id, channels, joint, angles}
 //   -> {type: 'ik', id, positions, frames}   (IK from joint positions; the IK model loads on first use)
-import init, { Inbetweener, IkSolver } from './pkg/deeprep.js';
+//   -> {type: 'importBvh', id, bytes}        (parse a user's file here, never on the page)
+//   <- {type: 'error', id, code, message, trapped}: trapped when the wasm instance
+//      hit a RuntimeError (a deeprep bug); the client then replaces this worker.
+import init, { Inbetweener, IkSolver, BvhClip } from './pkg/deeprep.js';
 
 let model = null;
-let modelBase = null;
 let ik = null;
+let skeletonNames = null;
 
-async function fetchBytes(url) {
+/** An Error with a deeprep error code (see client.js). */
+function coded(code, message) {
+  const e = new Error(message);
+  e.code = code;
+  return e;
+}
+
+// The code of an uncoded failure, by the request that failed.
+const DEFAULT_CODE = { init: 'E_MODEL_LOAD', synthesize: 'E_BAD_KEYS', importBvh: 'E_BAD_BVH' };
+
+// Where each model file is: under msg.modelBase, or the package's own copies,
+// written as literal `new URL(..., import.meta.url)` so bundlers ship them.
+function modelUrls(base) {
+  if (base) {
+    const at = (f) => `${base.replace(/\/$/, '')}/${f}`;
+    return { generator: at('tween_generator.onnx'), path: at('tween_path.onnx'), manifest: at('tween_generator.manifest.json'),
+             ik: at('ik.onnx'), ikManifest: at('ik.manifest.json') };
+  }
+  return {
+    generator: new URL('./models/tween_generator.onnx', import.meta.url).href,
+    path: new URL('./models/tween_path.onnx', import.meta.url).href,
+    manifest: new URL('./models/tween_generator.manifest.json', import.meta.url).href,
+    ik: new URL('./models/ik.onnx', import.meta.url).href,
+    ikManifest: new URL('./models/ik.manifest.json', import.meta.url).href,
+  };
+}
+let urls = null;
+
+/** Fetches a file, reporting download progress (by Content-Length when the server gives it). */
+async function fetchBytes(url, onBytes = () => {}) {
   const r = await fetch(url);
-  if (!r.ok) throw new Error(`${url}: HTTP ${r.status}`);
-  return new Uint8Array(await r.arrayBuffer());
+  if (!r.ok) throw coded('E_MODEL_LOAD', `${url}: HTTP ${r.status}`);
+  if (!r.body) return new Uint8Array(await r.arrayBuffer());
+  const total = Number(r.headers.get('Content-Length')) || 0;
+  const parts = [];
+  let got = 0;
+  for (const reader = r.body.getReader(); ;) {
+    const { done, value } = await reader.read();
+    if (done) break;
+    parts.push(value);
+    got += value.length;
+    onBytes(got, total);
+  }
+  const out = new Uint8Array(got);
+  let at = 0;
+  for (const p of parts) { out.set(p, at); at += p.length; }
+  return out;
+}
+
+async function fetchText(url) {
+  return new TextDecoder().decode(await fetchBytes(url));
 }
 
 async function handleInit(msg) {
+  postMessage({ type: 'progress', id: 0, stage: 'compiling wasm', fraction: 0 });
   await init();
-  const base = msg.modelBase;
-  modelBase = base;
+  urls = modelUrls(msg.modelBase);
   try {
-    const [g, p, m] = await Promise.all([
-      fetchBytes(`${base}/tween_generator.onnx`), fetchBytes(`${base}/tween_path.onnx`),
-      fetch(`${base}/tween_generator.manifest.json`).then((r) => { if (!r.ok) throw new Error(`manifest: HTTP ${r.status}`); return r.text(); }),
-    ]);
+    let g, p, m;
+    if (msg.models) {
+      ({ generator: g, path: p, manifest: m } = msg.models);
+      g = new Uint8Array(g); p = new Uint8Array(p);
+    } else {
+      const got = { g: [0, 0], p: [0, 0] };
+      const report = (k) => (n, total) => {
+        got[k] = [n, total];
+        const all = got.g[1] + got.p[1];
+        postMessage({ type: 'progress', id: 0, stage: 'downloading models', fraction: all ? (got.g[0] + got.p[0]) / all : 0 });
+      };
+      [g, p, m] = await Promise.all([fetchBytes(urls.generator, report('g')), fetchBytes(urls.path, report('p')), fetchText(urls.manifest)]);
+    }
+    postMessage({ type: 'progress', id: 0, stage: 'loading models', fraction: 1 });
     model = new Inbetweener(g, p, m);
+    const skel = BvhClip.parse(model.skeletonBvh);
+    skeletonNames = skel.jointNames;
+    skel.free();
     postMessage({ type: 'ready', skeletonBvh: model.skeletonBvh, hasModel: true, defaultVariation: model.defaultVariation });
   } catch (e) {
     postMessage({ type: 'ready', skeletonBvh: null, hasModel: false, modelError: String(e.message || e) });
@@ -38,10 +103,7 @@ async function handleIk(msg) {
   const { id } = msg;
   if (!ik) {
     postMessage({ type: 'progress', id, stage: 'loading the IK model', fraction: 0.1 });
-    const [bytes, manifest] = await Promise.all([
-      fetchBytes(`${modelBase}/ik.onnx`),
-      fetch(`${modelBase}/ik.manifest.json`).then((r) => { if (!r.ok) throw new Error(`ik manifest: HTTP ${r.status}`); return r.text(); }),
-    ]);
+    const [bytes, manifest] = await Promise.all([fetchBytes(urls.ik), fetchText(urls.ikManifest)]);
     ik = new IkSolver(bytes, manifest);
   }
   postMessage({ type: 'progress', id, stage: 'solving IK', fraction: 0.5 });
@@ -53,9 +115,26 @@ async function handleIk(msg) {
   r.free();
 }
 
+function importBvh(msg) {
+  const clip = BvhClip.fromBytes(new Uint8Array(msg.bytes));
+  try {
+    const names = clip.jointNames;
+    if (skeletonNames && (names.length !== skeletonNames.length || names.some((n, i) => n !== skeletonNames[i]))) {
+      throw coded('E_BAD_BVH', `its skeleton (${names.length} joints) is not the model's (${skeletonNames.length} joints)`);
+    }
+    const motion = clip.motion;
+    const positions = clip.fkPositions(0, clip.frameCount);
+    postMessage({ type: 'result', id: msg.id, jointNames: names, channelCount: clip.channelCount, frameTime: clip.frameTime,
+                  frameCount: clip.frameCount, motion, positions, bvh: clip.toBvh() }, [motion.buffer, positions.buffer]);
+  } finally {
+    clip.free();
+  }
+}
+
 function handle(msg) {
   const { id } = msg;
-  if (!model) throw new Error('the in-betweening models are not loaded');
+  if (msg.type === 'importBvh') { importBvh(msg); return; }
+  if (!model) throw coded('E_MODEL_LOAD', 'the in-betweening models are not loaded');
   if (msg.type === 'synthesize') {
     postMessage({ type: 'progress', id, stage: msg.method === 'slerp' ? 'interpolating' : 'generator, RC-FK, path, post-processing', fraction: 0.1 });
     const kf = new Uint32Array(msg.keyFrames);
@@ -73,7 +152,7 @@ function handle(msg) {
   } else if (msg.type === 'setRcAngles') {
     postMessage({ type: 'result', id, channels: Array.from(model.setRcAngles(new Float32Array(msg.channels), msg.joint, new Float64Array(msg.angles))) });
   } else {
-    throw new Error(`unknown request '${msg.type}'`);
+    throw coded('E_BAD_INPUT', `unknown request '${msg.type}'`);
   }
 }
 
@@ -84,6 +163,8 @@ onmessage = async (e) => {
     else if (msg.type === 'ik') await handleIk(msg);
     else handle(msg);
   } catch (err) {
-    postMessage({ type: 'error', id: msg.id, message: String(err && err.message ? err.message : err) });
+    const trapped = err instanceof WebAssembly.RuntimeError;
+    const code = trapped ? 'E_WASM_TRAP' : (err && err.code) || DEFAULT_CODE[msg.type] || 'E_BAD_INPUT';
+    postMessage({ type: 'error', id: msg.id, code, trapped, message: String(err && err.message ? err.message : err) });
   }
 };

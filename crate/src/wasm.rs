@@ -18,6 +18,14 @@ fn install_panic_hook() {
     });
 }
 
+/// Runs when the module is instantiated (every page and worker that calls
+/// `init()`), so a panic anywhere is reported on the console with its
+/// message before the instance traps.
+#[wasm_bindgen(start)]
+pub fn start() {
+    install_panic_hook();
+}
+
 fn js_err(e: crate::Error) -> JsError {
     JsError::new(&e.to_string())
 }

@@ -213,3 +213,112 @@ async fn the_renderer_draws_on_webgpu() {
         w * h
     );
 }
+
+const TWEEN_GENERATOR: &[u8] = include_bytes!("../../models/onnx/tween_generator.onnx");
+const TWEEN_PATH: &[u8] = include_bytes!("../../models/onnx/tween_path.onnx");
+const TWEEN_MANIFEST: &str = include_str!("../../models/onnx/tween_generator.manifest.json");
+
+macro_rules! corpus {
+    ($($name:literal),* $(,)?) => {
+        &[$(($name, include_bytes!(concat!("../corpus/bvh/", $name)) as &[u8])),*]
+    };
+}
+const BVH_CORPUS: &[(&str, &[u8])] = corpus!(
+    "bad-channels-overflow.bvh",
+    "bad-four-rotations.bvh",
+    "bad-frame-time.bvh",
+    "bad-frames-huge.bvh",
+    "bad-frames-overflow.bvh",
+    "bad-nan.bvh",
+    "bad-truncated.bvh",
+    "bad-unknown-channel.bvh",
+    "ok-interleaved-channels.bvh",
+    "ok-root-positions-only.bvh",
+    "ok-small.bvh",
+    "ok-two-rotations.bvh",
+    "ok-zero-frames.bvh",
+);
+
+fn wasm_memory_bytes() -> u32 {
+    use wasm_bindgen::JsCast;
+    let m: js_sys::WebAssembly::Memory = wasm_bindgen::memory().unchecked_into();
+    m.buffer()
+        .unchecked_into::<js_sys::ArrayBuffer>()
+        .byte_length()
+}
+
+/// Issue 22: every exported class given the reported hostile inputs
+/// returns an `Error`, memory does not grow by a header's claim, and the
+/// instance keeps working afterwards (a trap would make every later call,
+/// even `version()`, fail).
+#[wasm_bindgen_test]
+fn hostile_inputs_reject_and_the_instance_keeps_working() {
+    use deeprep::wasm::{convert_rotations, version, BvhClip, HairLab, Inbetweener, OnnxModel};
+    for (name, bytes) in BVH_CORPUS {
+        let r = BvhClip::from_bytes(bytes);
+        assert_eq!(r.is_ok(), name.starts_with("ok-"), "{name}");
+        if let Ok(c) = r {
+            let again = BvhClip::parse(&c.to_bvh()).expect("write → parse");
+            assert_eq!(again.frame_count(), c.frame_count(), "{name}");
+            assert!(c.fk_positions(0, c.frame_count()).is_ok(), "{name}");
+        }
+    }
+    // nesting deeper than the recursive parser survived in wasm (5,468)
+    let mut deep = String::from(
+        "HIERARCHY\nROOT r\n{\nOFFSET 0 0 0\nCHANNELS 3 Xposition Yposition Zposition\n",
+    );
+    for i in 0..6000 {
+        deep.push_str(&format!(
+            "JOINT j{i}\n{{\nOFFSET 0 1 0\nCHANNELS 1 Zrotation\n"
+        ));
+    }
+    deep.push_str(&"}\n".repeat(6001));
+    deep.push_str("MOTION\nFrames: 0\nFrame Time: 0.01\n");
+    assert!(BvhClip::parse(&deep).is_err(), "over MAX_JOINTS");
+    // `Frames: 3000000` used to grow memory to 2 GB for good
+    let before = wasm_memory_bytes();
+    let text = String::from_utf8(BVH_CORPUS[9].1.to_vec())
+        .unwrap()
+        .replace("Frames: 2", "Frames: 3000000");
+    assert!(BvhClip::parse(&text).is_err());
+    let grown = wasm_memory_bytes() - before;
+    assert!(grown < 16 << 20, "memory grew by {grown} bytes");
+    // rotations, ONNX bytes
+    assert!(convert_rotations("quat", "6d", &[1.0, 2.0, 3.0]).is_err());
+    assert!(convert_rotations("quat", "nope", &[0.0, 0.0, 0.0, 1.0]).is_err());
+    assert!(OnnxModel::new(b"not an onnx file").is_err());
+    assert!(OnnxModel::new(&TWEEN_PATH[..TWEEN_PATH.len() / 2]).is_err());
+    // the in-betweener: bad models, bad keys, impossible lengths
+    assert!(Inbetweener::new(b"x", TWEEN_PATH, TWEEN_MANIFEST).is_err());
+    assert!(Inbetweener::new(TWEEN_GENERATOR, TWEEN_PATH, "{").is_err());
+    let m = Inbetweener::new(TWEEN_GENERATOR, TWEEN_PATH, TWEEN_MANIFEST).unwrap();
+    let tpl = BvhClip::parse(&m.skeleton_bvh()).unwrap();
+    let row = vec![0.0f32; tpl.channel_count()];
+    let two: Vec<f32> = row.iter().chain(&row).copied().collect();
+    assert!(m.interpolate(&[0, 10], &row, 20).is_err(), "short channels");
+    assert!(m.interpolate(&[0, 10], &two, usize::MAX).is_err(), "frames");
+    assert!(m.interpolate(&[10, 0], &two, 20).is_err(), "unsorted");
+    let mut nan = two.clone();
+    nan[5] = f32::NAN;
+    assert!(m.interpolate(&[0, 10], &nan, 20).is_err(), "NaN");
+    assert!(m
+        .synthesize(&[0, 10], &two, usize::MAX, true, &[], None, None)
+        .is_err());
+    assert!(m
+        .synthesize(&[0, 10], &two, 20, true, &[], Some(f32::NAN), None)
+        .is_err());
+    assert!(m.rc_angles(&row, 0).is_err(), "the root is not an RC joint");
+    assert!(m.set_rc_angles(&row, 5, &[f64::NAN, 0.0, 0.0]).is_err());
+    // hair photo sizes whose product wraps on 32-bit
+    let hair = HairLab::new(HAIR_FEATURES, HAIR_STRANDS, HAIR_MANIFEST).unwrap();
+    assert!(hair.photo_input(&[], &[], &[], 65536, 65536).is_err());
+    assert!(hair.photo_input(&[], &[], &[], usize::MAX, 2).is_err());
+    // and the instance still works
+    assert_eq!(version(), env!("CARGO_PKG_VERSION"));
+    let r = m.interpolate(&[0, 10], &two, 20).unwrap();
+    assert_eq!(r.frames(), 20);
+}
+
+const HAIR_FEATURES: &[u8] = include_bytes!("../../models/onnx/hair_features.onnx");
+const HAIR_STRANDS: &[u8] = include_bytes!("../../models/onnx/hair_strands.onnx");
+const HAIR_MANIFEST: &str = include_str!("../../models/onnx/hair_features.manifest.json");

@@ -171,3 +171,29 @@ test('sketch page: ?view=2d keeps the 2-D canvas fallback working', async () => 
   assert.ok(stats.lit > 0.002 * stats.total, `2-D canvas looks blank: ${JSON.stringify(stats)}`);
   assert.deepEqual(errors, []);
 });
+
+// Issue 22: hostile BVH files are parsed in the worker and fail with a
+// message; the page, its wasm and the worker keep working.
+test('sketch page: a hostile BVH import fails cleanly and synthesis still works', async () => {
+  const page = await browser.context.newPage();
+  const errors = watchErrors(page);
+  await page.goto(`${server.url}/web/index.html`);
+  await page.waitForSelector('body[data-ready="1"]', { timeout: 120_000 });
+  const head = 'HIERARCHY\nROOT hip\n{\nOFFSET 0 0 0\nCHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n';
+  let deep = head;
+  for (let i = 0; i < 6000; i++) deep += `JOINT j${i}\n{\nOFFSET 0 1 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n`;
+  deep += '}\n'.repeat(6001) + 'MOTION\nFrames: 1\nFrame Time: 0.01\n0\n';
+  const huge = `${head}}\nMOTION\nFrames: 1000000000\nFrame Time: 0.01\n${'0 0 0 0 0 0\n'.repeat(2000)}`;
+  const fourRot = fs.readFileSync(path.join(ROOT, 'tests/corpus/bvh/bad-four-rotations.bvh'));
+  for (const [name, text] of [['deep.bvh', deep], ['huge.bvh', huge], ['four.bvh', fourRot]]) {
+    await page.evaluate(() => { document.getElementById('status').textContent = ''; });
+    await page.setInputFiles('#import', { name, mimeType: 'text/plain', buffer: Buffer.from(text) });
+    await page.waitForFunction(() => /import failed/.test(document.getElementById('status').textContent), null, { timeout: 60_000 });
+    assert.match(await page.textContent('#status'), new RegExp(`import failed: ${name}: `));
+  }
+  assert.equal(await page.evaluate(() => window.deeprepState.client.restarts), 0, 'no trap, no worker restart');
+  await page.evaluate(() => { delete document.body.dataset.synthesized; });
+  await page.click('#synth');
+  await page.waitForSelector('body[data-synthesized]', { timeout: 120_000 });
+  assert.deepEqual(errors, []);
+});
