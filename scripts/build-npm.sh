@@ -9,6 +9,19 @@ rm -rf pkg
 wasm-pack build crate --mode force --no-opt --target web --out-dir ../pkg --out-name deeprep --release -- "${WASM_CARGO_FLAGS[@]:2}"
 cp web/client.js pkg/client.js
 sed "s#'./pkg/deeprep.js'#'./deeprep.js'#" web/worker.js > pkg/worker.js
+# Strip debug sections (the name section alone was 14 MB) and optimize for
+# size with binaryen from npm (Debian's wasm-opt is too old for
+# wasm-bindgen's reference types).
+node_modules/.bin/wasm-opt pkg/deeprep_bg.wasm -Os --strip-debug --strip-producers -o pkg/deeprep_bg.wasm \
+  --enable-reference-types --enable-bulk-memory --enable-nontrapping-float-to-int \
+  --enable-sign-ext --enable-multivalue --enable-mutable-globals --enable-simd
+# The models the client loads by default, found beside worker.js.
+mkdir -p pkg/models
+for f in tween_generator.onnx tween_path.onnx tween_generator.manifest.json ik.onnx ik.manifest.json; do
+  cp "models/onnx/$f" pkg/models/
+done
+cp npm/README.md pkg/README.md
+cp LICENSE-MIT LICENSE-APACHE pkg/
 cat > pkg/client.d.ts <<'TS'
 /** Progress of a synthesis request, posted by the worker. */
 export interface Progress { id: number; stage: string; fraction: number }
@@ -54,15 +67,49 @@ export interface IkSolution {
   meanError: number;
   maxError: number;
 }
+/** Error codes of DeeprepError. */
+export type DeeprepErrorCode = 'E_MODEL_LOAD' | 'E_BAD_BVH' | 'E_BAD_KEYS' | 'E_BAD_INPUT' | 'E_ABORTED'
+  | 'E_TERMINATED' | 'E_WORKER' | 'E_WASM_TRAP';
+/** Every rejection of the client is one of these. */
+export class DeeprepError extends Error {
+  readonly code: DeeprepErrorCode;
+}
+/** A BVH file parsed in the worker (DeeprepClient.importBvh). */
+export interface ImportedBvh {
+  jointNames: string[];
+  channelCount: number;
+  frameTime: number;
+  frameCount: number;
+  /** Channel values, frames x channels. */
+  motion: Float32Array;
+  /** Global joint positions, frames x joints x 3. */
+  positions: Float32Array;
+  /** The clip written back as BVH text. */
+  bvh: string;
+}
+export interface CreateOptions {
+  /** Folder with the model files, resolved against the page. Default: the package's models/. */
+  modelBase?: string | URL;
+  /** The in-betweening models as bytes and text, instead of fetching them. */
+  models?: { generator: Uint8Array | ArrayBuffer; path: Uint8Array | ArrayBuffer; manifest: string };
+  workerUrl?: URL | string;
+  /** Download, compile and synthesis stages (id 0: start-up). */
+  onProgress?: (p: Progress) => void;
+}
 /** A Promise API over a Web Worker that runs the wasm in-betweening. */
 export class DeeprepClient {
-  static create(opts: { modelBase: string; workerUrl?: URL | string; onProgress?: (p: Progress) => void }): Promise<DeeprepClient>;
+  /** Rejects with E_MODEL_LOAD when the models cannot be loaded. */
+  static create(opts?: CreateOptions): Promise<DeeprepClient>;
+  /** How many times the worker was replaced (after a trap or an abort). */
+  readonly restarts: number;
   readonly skeletonBvh: string | null;
   readonly hasModel: boolean;
   /** The variation a request without one gets: the model manifest's (chosen on training takes). */
   readonly defaultVariation?: number;
   readonly modelError?: string;
-  synthesize(req: SynthesisRequest): Promise<SynthesisResult>;
+  synthesize(req: SynthesisRequest & { signal?: AbortSignal }): Promise<SynthesisResult>;
+  /** Parses BVH bytes in the worker and checks the skeleton against the model's (E_BAD_BVH otherwise). */
+  importBvh(bytes: Uint8Array | ArrayBuffer, opts?: { signal?: AbortSignal }): Promise<ImportedBvh>;
   /** IK from global joint positions (frames x joints x 3, the skeleton's joint order). */
   ik(positions: number[] | Float32Array, frames: number): Promise<IkSolution>;
   rcAngles(channels: number[], joint: number): Promise<number[]>;
@@ -75,7 +122,9 @@ const fs = require("fs");
 const p = JSON.parse(fs.readFileSync("pkg/package.json", "utf8"));
 p.name = "deeprep";
 p.type = "module";
-p.files = [...new Set([...(p.files || []), "client.js", "client.d.ts", "worker.js"])];
+p.files = [...new Set([...(p.files || []), "client.js", "client.d.ts", "worker.js", "models", "README.md", "LICENSE-MIT", "LICENSE-APACHE"])];
+p.license = "MIT OR Apache-2.0";
+p.sideEffects = ["./worker.js"];
 p.exports = { ".": { types: "./deeprep.d.ts", default: "./deeprep.js" }, "./client.js": { types: "./client.d.ts", default: "./client.js" }, "./worker.js": "./worker.js", "./deeprep_bg.wasm": "./deeprep_bg.wasm" };
 fs.writeFileSync("pkg/package.json", JSON.stringify(p, null, 2) + "\n");
 '
