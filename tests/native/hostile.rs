@@ -268,10 +268,10 @@ fn glb(children: &[Vec<usize>], weights: Option<usize>) -> Vec<u8> {
         nodes.join(",")
     );
     let mut j = json.into_bytes();
-    while j.len() % 4 != 0 {
+    while !j.len().is_multiple_of(4) {
         j.push(b' ');
     }
-    while bin.len() % 4 != 0 {
+    while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
     let total = 12 + 8 + j.len() + 8 + bin.len();
