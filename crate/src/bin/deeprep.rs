@@ -634,12 +634,48 @@ fn run(args: &[String]) -> Result<(), String> {
         ["mesh", "poses", file, rest @ ..] => mesh_poses(file, rest),
         ["hair", "dataset", rest @ ..] => hair_dataset(rest),
         ["hair", "preview", rest @ ..] => hair_preview(rest),
-        _ => Err(USAGE.to_string()),
+        _ => Err(help(args)),
     }
+}
+
+/// The usage entries of the command named by the leading words of `args`
+/// (`inbetween`, `bvh fk`, ...), or all of them when none matches.
+fn help(args: &[String]) -> String {
+    let words: Vec<&str> = args
+        .iter()
+        .map(String::as_str)
+        .take_while(|a| !a.starts_with('-'))
+        .take(2)
+        .collect();
+    // entries: a "  deeprep ..." line and the more-indented lines after it
+    let mut entries: Vec<Vec<&str>> = Vec::new();
+    for line in USAGE.lines().skip(1) {
+        if line.starts_with("  deeprep ") {
+            entries.push(vec![line]);
+        } else if let Some(e) = entries.last_mut() {
+            e.push(line);
+        }
+    }
+    for n in (1..=words.len()).rev() {
+        let prefix = format!("  deeprep {}", words[..n].join(" "));
+        let hits: Vec<String> = entries
+            .iter()
+            .filter(|e| e[0] == prefix || e[0].starts_with(&format!("{prefix} ")))
+            .map(|e| e.join("\n"))
+            .collect();
+        if !hits.is_empty() {
+            return format!("usage:\n{}", hits.join("\n"));
+        }
+    }
+    USAGE.to_string()
 }
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.iter().any(|a| a == "--help" || a == "-h") {
+        println!("{}", help(&args));
+        return ExitCode::SUCCESS;
+    }
     match run(&args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
