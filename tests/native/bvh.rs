@@ -207,3 +207,95 @@ fn fk_keeps_bone_lengths() {
         }
     }
 }
+
+/// Frame-rate conversion: identity at the same rate, half the frames from
+/// 120 to 60 fps with the values of the even frames, and a slerped
+/// rotation between frames (one joint turning at constant speed).
+#[test]
+fn resampling_keeps_time_and_slerps_rotations() {
+    use deeprep::skeleton::resample::resample;
+    let mut b = Bvh::parse(&fixture(9)).unwrap();
+    b.frame_time = 1.0 / 120.0;
+    assert_eq!(resample(&b, 120.0).unwrap(), b);
+    let half = resample(&b, 60.0).unwrap();
+    assert_eq!(half.frame_count(), 5);
+    assert!((half.fps() - 60.0).abs() < 1e-9);
+    for f in 0..5 {
+        let (got, want) = (half.frame(f), b.frame(2 * f));
+        for (c, (g, w)) in got.iter().zip(want).enumerate() {
+            // the same rotation, perhaps as another Euler triple
+            let joint = b
+                .joints
+                .iter()
+                .find(|j| (j.channel_start..j.channel_start + j.channels.len()).contains(&c))
+                .unwrap();
+            if !joint.channels[c - joint.channel_start].is_rotation() {
+                assert!((g - w).abs() < 1e-4, "frame {f} channel {c}: {g} vs {w}");
+            }
+        }
+        let a = fk::positions(&half, f, f + 1).unwrap();
+        let e = fk::positions(&b, 2 * f, 2 * f + 1).unwrap();
+        let d = a
+            .iter()
+            .zip(&e)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0f32, f32::max);
+        assert!(d < 1e-3, "frame {f}: FK differs by {d}");
+    }
+    // a spine turning 0, 10, 20 ... degrees about z: at 240 fps the frame
+    // between two source frames is at the mid angle
+    let mut turn = Bvh::parse(&fixture(4)).unwrap();
+    turn.frame_time = 1.0 / 60.0;
+    let c = turn.channel_count();
+    for f in 0..4 {
+        for v in &mut turn.motion[f * c..(f + 1) * c] {
+            *v = 0.0;
+        }
+        turn.motion[f * c + 6] = 10.0 * f as f32; // spine Zrotation
+    }
+    let fine = resample(&turn, 240.0).unwrap();
+    assert_eq!(fine.frame_count(), 13);
+    for (t, want) in [(1, 2.5f32), (2, 5.0), (6, 15.0), (12, 30.0)] {
+        let got = fine.frame(t)[6];
+        assert!((got - want).abs() < 1e-3, "frame {t}: {got} vs {want}");
+    }
+    assert!(resample(&turn, 0.0).is_err() && resample(&turn, f64::NAN).is_err());
+}
+
+/// The local tracks (three.js' form): translations are offset plus
+/// position channels, quaternions rotate like the channels' matrices.
+#[test]
+fn local_tracks_match_the_channels() {
+    let b = Bvh::parse(&fixture(5)).unwrap();
+    let t = fk::local_tracks(&b);
+    let j = b.joints.len();
+    assert_eq!(t.translations.len(), 5 * j * 3);
+    assert_eq!(t.quaternions.len(), 5 * j * 4);
+    for f in 0..5 {
+        let row = b.frame(f);
+        for (i, joint) in b.joints.iter().enumerate() {
+            let vals = &row[joint.channel_start..joint.channel_start + joint.channels.len()];
+            let m = fk::local_rotation(&joint.channels, vals);
+            let q = &t.quaternions[(f * j + i) * 4..(f * j + i) * 4 + 4];
+            let qm = glam::DMat3::from_quat(glam::DQuat::from_xyzw(
+                q[0] as f64,
+                q[1] as f64,
+                q[2] as f64,
+                q[3] as f64,
+            ));
+            let d = (qm - m)
+                .to_cols_array()
+                .iter()
+                .fold(0f64, |a, x| a.max(x.abs()));
+            assert!(d < 1e-6, "frame {f} joint {i}: {d}");
+            let tr = &t.translations[(f * j + i) * 3..(f * j + i) * 3 + 3];
+            let mut want = joint.offset;
+            for (c, v) in joint.channels.iter().zip(vals) {
+                if !c.is_rotation() {
+                    want[c.axis()] += v;
+                }
+            }
+            assert_eq!(tr, want);
+        }
+    }
+}

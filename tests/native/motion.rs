@@ -737,3 +737,72 @@ fn the_cli_takes_motion_dna_and_variation() {
     assert!(!ok && err.contains("--seed"), "{err}");
     std::fs::remove_dir_all(&tmp).ok();
 }
+
+/// Keys from a clip at another frame rate (JS synthesizeFromBvh): the clip
+/// is brought to 60 fps, the span between the keys replaced, and the result
+/// returned at the clip's rate and length with the keys' own values; the
+/// CLI's form (no resampling) takes the frames as they are.
+#[test]
+fn clip_keys_resample_and_splice_back() {
+    use deeprep::motion::clip::{clip_keys, splice};
+    let clip = deeprep::skeleton::Bvh::parse(&clip_fixture(121, 1.0 / 120.0)).unwrap();
+    let ck = clip_keys(&clip, &[0, 40, 120], true).unwrap();
+    assert_eq!((ck.first, ck.last, ck.frames()), (0, 60, 61));
+    assert_eq!(
+        ck.keys.iter().map(|k| k.frame).collect::<Vec<_>>(),
+        vec![0, 20, 60]
+    );
+    let m = slerp_lerp(&ck.keys, ck.frames()).unwrap();
+    let out = splice(&clip, &ck, &m).unwrap();
+    assert_eq!(out.frame_count(), clip.frame_count());
+    assert_eq!(out.frame_time, clip.frame_time);
+    let c = clip.channel_count();
+    for f in [0, 40, 120] {
+        assert_eq!(out.frame(f), clip.frame(f), "key frame {f}");
+    }
+    assert!(
+        (1..40).any(|f| out.frame(f) != clip.frame(f)),
+        "the span is synthesized"
+    );
+    let same = clip_keys(&clip, &[0, 40, 120], false).unwrap();
+    assert_eq!((same.first, same.last), (0, 120));
+    assert_eq!(
+        splice(&clip, &same, &slerp_lerp(&same.keys, 121).unwrap())
+            .unwrap()
+            .motion
+            .len(),
+        121 * c
+    );
+    for bad in [&[][..], &[5, 5], &[10, 3], &[0, 500]] {
+        assert!(clip_keys(&clip, bad, true).is_err(), "{bad:?}");
+    }
+    assert!(
+        clip_keys(&clip, &[0, 1, 2], true).is_err(),
+        "1 and 2 fall on one frame at 60 fps"
+    );
+}
+
+/// A three-joint clip with smooth motion: root moving along x, the joints
+/// turning at different speeds.
+fn clip_fixture(frames: usize, frame_time: f64) -> String {
+    let mut s = String::from("HIERARCHY\nROOT hip\n{\n  OFFSET 0 0 0\n  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n  JOINT a\n  {\n    OFFSET 0 10 0\n    CHANNELS 3 Zrotation Xrotation Yrotation\n    End Site\n    {\n      OFFSET 0 5 0\n    }\n  }\n}\nMOTION\n");
+    s.push_str(&format!("Frames: {frames}\nFrame Time: {frame_time}\n"));
+    for f in 0..frames {
+        let t = f as f32 * frame_time as f32;
+        let v = [
+            100.0 * t,
+            90.0,
+            0.0,
+            20.0 * t,
+            5.0,
+            40.0 * t,
+            60.0 * t,
+            -30.0 * t,
+            10.0,
+        ];
+        let row: Vec<String> = v.iter().map(|x| x.to_string()).collect();
+        s.push_str(&row.join(" "));
+        s.push('\n');
+    }
+    s
+}

@@ -551,7 +551,6 @@ fn dna_poses(
 }
 
 fn inbetween(args: &[&str]) -> Result<(), String> {
-    use deeprep::motion::Keyframe;
     let o = parse_inbetween(args)?;
     if let Some(clip) = &o.from_bvh {
         let b = load(clip)?;
@@ -564,26 +563,14 @@ fn inbetween(args: &[&str]) -> Result<(), String> {
                     .map_err(|_| format!("--keys: '{s}' is not a frame index"))
             })
             .collect::<Result<_, _>>()?;
-        let (first, last) = (
-            *frames.first().ok_or("--keys is empty")?,
-            *frames.last().unwrap_or(&0),
-        );
-        if last < first {
-            return Err("--keys must be sorted".into());
-        }
-        let keys: Vec<Keyframe> = frames
-            .iter()
-            .map(|&f| Keyframe::from_bvh(&b, f, f.saturating_sub(first)))
-            .collect::<Result<_, _>>()
-            .map_err(|e| e.to_string())?;
-        let dna = dna_poses(&o, Some(&b), last - first + 1)?;
-        let (motion, info) = synthesize(&o, &keys, last - first + 1, dna)?;
-        let synth = motion.to_bvh(&b, b.frame_time).map_err(|e| e.to_string())?;
-        let mut out = b.clone();
-        let c = b.channel_count();
-        out.motion[first * c..(last + 1) * c].copy_from_slice(&synth.motion);
+        let ck = deeprep::motion::clip::clip_keys(&b, &frames, false)
+            .map_err(|e| format!("--keys: {e}"))?;
+        let dna = dna_poses(&o, Some(&b), ck.frames())?;
+        let (motion, info) = synthesize(&o, &ck.keys, ck.frames(), dna)?;
+        let out = deeprep::motion::clip::splice(&b, &ck, &motion).map_err(|e| e.to_string())?;
         let path = o.out.ok_or("-o OUT.bvh is required")?;
         std::fs::write(&path, out.write()).map_err(|e| format!("{path}: {e}"))?;
+        let (first, last) = ck.span();
         eprintln!(
             "wrote {path}: {} frames, frames {first}..={last} synthesized by {}. {info}",
             out.frame_count(),

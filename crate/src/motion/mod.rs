@@ -6,11 +6,13 @@
 //! - [`pipeline`]: generator → RC-FK → path predictor → integrated root →
 //!   post-processing, on ONNX models run by tract.
 //! - [`baseline`]: SLERP+LERP and zero-velocity.
+//! - [`clip`]: keys from frames of a user's clip, the result spliced back (any frame rate).
 //! - [`post`]: the correction that makes keyframes exact (Sec. 5.2.6).
 //! - [`keys`]: the keys file (JSON) of the CLI and the examples.
 //! - [`feet`]: foot locking (contacts pinned by two-bone IK; not in the thesis).
 
 pub mod baseline;
+pub mod clip;
 pub mod dense;
 pub mod dna;
 pub mod feet;

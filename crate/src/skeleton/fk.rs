@@ -83,3 +83,40 @@ pub fn positions(bvh: &Bvh, start: usize, end: usize) -> Result<Vec<f32>> {
     }
     Ok(out)
 }
+
+/// Every joint's local transform in every frame, the form animation
+/// systems take (three.js `AnimationClip` tracks, glTF channels).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LocalTracks {
+    /// `frames × joints × 3`: offset plus position channels.
+    pub translations: Vec<f32>,
+    /// `frames × joints × 4`: the local rotation as a unit quaternion
+    /// `[x, y, z, w]` (identity for joints without rotation channels).
+    pub quaternions: Vec<f32>,
+}
+
+/// The local tracks of every frame of `bvh`.
+pub fn local_tracks(bvh: &Bvh) -> LocalTracks {
+    let (n, j) = (bvh.frame_count(), bvh.joints.len());
+    let mut out = LocalTracks {
+        translations: Vec::with_capacity(n * j * 3),
+        quaternions: Vec::with_capacity(n * j * 4),
+    };
+    for f in 0..n {
+        let row = bvh.frame(f);
+        for joint in &bvh.joints {
+            let vals = &row[joint.channel_start..joint.channel_start + joint.channels.len()];
+            let mut t = joint.offset;
+            for (c, v) in joint.channels.iter().zip(vals) {
+                if !c.is_rotation() {
+                    t[c.axis()] += *v;
+                }
+            }
+            out.translations.extend_from_slice(&t);
+            let q = glam::DQuat::from_mat3(&local_rotation(&joint.channels, vals)).normalize();
+            out.quaternions
+                .extend_from_slice(&[q.x as f32, q.y as f32, q.z as f32, q.w as f32]);
+        }
+    }
+    out
+}

@@ -1,0 +1,150 @@
+//! In-betweening inside a user's clip (`deeprep inbetween --from-bvh CLIP
+//! --keys F1,F2,...`, JS `synthesizeFromBvh`): whole-pose keys taken from
+//! frames of the clip, the motion between the first and the last key
+//! synthesized, everything else copied. Clips at another frame rate are
+//! resampled to the model's 60 fps and the result back to theirs.
+
+use super::{Keyframe, Motion};
+use crate::error::{Error, Result};
+use crate::skeleton::resample::{map_frame, resample};
+use crate::skeleton::Bvh;
+
+/// The networks' frame rate.
+pub const MODEL_FPS: f64 = 60.0;
+
+/// Keys taken from a clip, at the model's frame rate.
+#[derive(Clone, Debug)]
+pub struct ClipKeys {
+    /// The clip at [`MODEL_FPS`] (the clip itself when it is at that rate).
+    pub clip: Bvh,
+    /// Whole-pose keys, frames counted from the first key.
+    pub keys: Vec<Keyframe>,
+    /// The first and last key's frames in `clip`.
+    pub first: usize,
+    /// See `first`.
+    pub last: usize,
+    /// The keys' frames in the user's clip.
+    pub clip_frames: Vec<usize>,
+}
+
+impl ClipKeys {
+    /// Frames to synthesize: the first key to the last, inclusive.
+    pub fn frames(&self) -> usize {
+        self.last - self.first + 1
+    }
+
+    /// The first and last key's frames in the user's clip.
+    pub fn span(&self) -> (usize, usize) {
+        (
+            self.clip_frames[0],
+            self.clip_frames[self.clip_frames.len() - 1],
+        )
+    }
+}
+
+/// Checks that `clip` has `skeleton`'s joints and channel layout.
+pub fn check_skeleton(clip: &Bvh, skeleton: &Bvh) -> Result<()> {
+    let same = clip.joints.len() == skeleton.joints.len()
+        && clip
+            .joints
+            .iter()
+            .zip(&skeleton.joints)
+            .all(|(a, b)| a.name == b.name && a.channels == b.channels && a.parent == b.parent);
+    if !same {
+        return Err(Error::Invalid(format!(
+            "the clip's skeleton ({} joints) is not the model's ({} joints, the thesis' CMU skeleton)",
+            clip.joints.len(),
+            skeleton.joints.len()
+        )));
+    }
+    Ok(())
+}
+
+/// Whole-pose keys at `frames` of `clip` (its own frame numbers, sorted,
+/// distinct), brought to the model's rate when `resample_to_model` (the JS
+/// `synthesizeFromBvh`); otherwise the clip's frames are taken as the
+/// model's, whatever its header says (the CLI's `--from-bvh`, whose meaning
+/// held-out evaluations rely on; the CMU salsa headers say 120 fps for
+/// 60 fps captures).
+pub fn clip_keys(clip: &Bvh, frames: &[usize], resample_to_model: bool) -> Result<ClipKeys> {
+    let n = clip.frame_count();
+    if frames.is_empty() {
+        return Err(Error::Invalid("no key frames given".into()));
+    }
+    for (i, &f) in frames.iter().enumerate() {
+        if f >= n {
+            return Err(Error::Invalid(format!(
+                "key {i} is at frame {f}, but the clip has {n} frames"
+            )));
+        }
+        if i > 0 && f <= frames[i - 1] {
+            return Err(Error::Invalid(format!(
+                "key frames must be sorted and distinct: key {i} (frame {f}) follows frame {}",
+                frames[i - 1]
+            )));
+        }
+    }
+    let fps = clip.fps();
+    let at = if resample_to_model {
+        resample(clip, MODEL_FPS)?
+    } else {
+        clip.clone()
+    };
+    let mapped: Vec<usize> = frames
+        .iter()
+        .map(|&f| map_frame(f, fps, at.fps()).min(at.frame_count() - 1))
+        .collect();
+    for (i, w) in mapped.windows(2).enumerate() {
+        if w[1] <= w[0] {
+            return Err(Error::Invalid(format!(
+                "keys at frames {} and {} fall on the same frame at {MODEL_FPS} fps",
+                frames[i],
+                frames[i + 1]
+            )));
+        }
+    }
+    let (first, last) = (mapped[0], mapped[mapped.len() - 1]);
+    let keys = mapped
+        .iter()
+        .map(|&f| Keyframe::from_bvh(&at, f, f - first))
+        .collect::<Result<_>>()?;
+    Ok(ClipKeys {
+        clip: at,
+        keys,
+        first,
+        last,
+        clip_frames: frames.to_vec(),
+    })
+}
+
+/// The clip with the synthesized frames (`motion`, [`ClipKeys::frames`]
+/// long) in place of those between the first and the last key, at the
+/// clip's own frame rate.
+pub fn splice(clip: &Bvh, ck: &ClipKeys, motion: &Motion) -> Result<Bvh> {
+    if motion.len() != ck.frames() {
+        return Err(Error::Invalid(format!(
+            "{} synthesized frames for a span of {}",
+            motion.len(),
+            ck.frames()
+        )));
+    }
+    let synth = motion.to_bvh(&ck.clip, ck.clip.frame_time)?;
+    let c = clip.channel_count();
+    let mut full = ck.clip.clone();
+    full.motion[ck.first * c..(ck.last + 1) * c].copy_from_slice(&synth.motion);
+    if ck.clip.frame_time == clip.frame_time {
+        return Ok(full);
+    }
+    // Resampled: only the frames between the keys change; the rest, and the
+    // keys themselves, keep the clip's own values (the round trip through
+    // another frame rate could rewrite an angle as its equivalent ± 360°).
+    let back = resample(&full, clip.fps())?;
+    let (a, b) = ck.span();
+    let b = b.min(back.frame_count() - 1);
+    let mut out = clip.clone();
+    out.motion[a * c..(b + 1) * c].copy_from_slice(&back.motion[a * c..(b + 1) * c]);
+    for &f in &ck.clip_frames {
+        out.motion[f * c..(f + 1) * c].copy_from_slice(&clip.motion[f * c..(f + 1) * c]);
+    }
+    Ok(out)
+}
