@@ -8,6 +8,7 @@ cd "$ROOT"
 rm -rf pkg
 wasm-pack build crate --mode force --no-opt --target web --out-dir ../pkg --out-name deeprep --release -- "${WASM_CARGO_FLAGS[@]:2}"
 cp web/client.js pkg/client.js
+cp web/three.js pkg/three.js
 sed "s#'./pkg/deeprep.js'#'./deeprep.js'#" web/worker.js > pkg/worker.js
 # Strip debug sections (the name section alone was 14 MB) and optimize for
 # size with binaryen from npm (Debian's wasm-opt is too old for
@@ -22,6 +23,16 @@ for f in tween_generator.onnx tween_path.onnx tween_generator.manifest.json ik.o
 done
 cp npm/README.md pkg/README.md
 cp LICENSE-MIT LICENSE-APACHE pkg/
+cat > pkg/three.d.ts <<'TS'
+import type { AnimationClip, Bone, Skeleton } from 'three';
+/** A synthesis result as a three.js Skeleton and AnimationClip (position and quaternion
+ *  tracks per joint, as BVHLoader makes them). `skeleton` is DeeprepClient.skeleton. */
+export function toThree(
+  result: { frames: number; frameTime?: number; translations: Float32Array; quaternions: Float32Array },
+  skeleton: { names: string[]; parents: number[]; offsets: number[] },
+  opts?: { name?: string },
+): { skeleton: Skeleton; clip: AnimationClip; root: Bone; bones: Bone[] };
+TS
 cat > pkg/client.d.ts <<'TS'
 /** Progress of a synthesis request, posted by the worker. */
 export interface Progress { id: number; stage: string; fraction: number }
@@ -33,6 +44,12 @@ export interface SynthesisResult {
   frames: number;
   /** Global joint positions, frames x joints x 3. */
   positions: Float32Array;
+  /** Seconds per frame (1/60, or the clip's for synthesizeFromBvh). */
+  frameTime: number;
+  /** Local translations (offset plus position channels), frames x joints x 3. */
+  translations: Float32Array;
+  /** Local rotations as quaternions [x, y, z, w], frames x joints x 4 (deeprep/three.js turns these into an AnimationClip). */
+  quaternions: Float32Array;
   /** Milliseconds: generator, RC-FK, path, post-processing. */
   times: number[];
   /** Mean key errors: root and joints before post-processing, then after. */
@@ -103,11 +120,18 @@ export class DeeprepClient {
   /** How many times the worker was replaced (after a trap or an abort). */
   readonly restarts: number;
   readonly skeletonBvh: string | null;
+  /** The model's skeleton: joint names, parent indices (-1 for the root) and rest offsets (joints x 3). */
+  readonly skeleton: { names: string[]; parents: number[]; offsets: number[] };
   readonly hasModel: boolean;
   /** The variation a request without one gets: the model manifest's (chosen on training takes). */
   readonly defaultVariation?: number;
   readonly modelError?: string;
   synthesize(req: SynthesisRequest & { signal?: AbortSignal }): Promise<SynthesisResult>;
+  /** One call from a user's clip (BVH text or bytes on the model's skeleton, any frame rate) to motion:
+   *  keys are frames of the clip; resolves with the whole clip at its own frame rate, the span between
+   *  the first and last key synthesized at 60 fps (resampled there and back). */
+  synthesizeFromBvh(bvh: string | Uint8Array | ArrayBuffer, opts: { keys: number[]; method?: 'model' | 'slerp';
+    post?: boolean; variation?: number; footLock?: boolean; signal?: AbortSignal }): Promise<SynthesisResult>;
   /** Parses BVH bytes in the worker and checks the skeleton against the model's (E_BAD_BVH otherwise). */
   importBvh(bytes: Uint8Array | ArrayBuffer, opts?: { signal?: AbortSignal }): Promise<ImportedBvh>;
   /** IK from global joint positions (frames x joints x 3, the skeleton's joint order). */
@@ -122,10 +146,12 @@ const fs = require("fs");
 const p = JSON.parse(fs.readFileSync("pkg/package.json", "utf8"));
 p.name = "deeprep";
 p.type = "module";
-p.files = [...new Set([...(p.files || []), "client.js", "client.d.ts", "worker.js", "models", "README.md", "LICENSE-MIT", "LICENSE-APACHE"])];
+p.files = [...new Set([...(p.files || []), "client.js", "client.d.ts", "three.js", "three.d.ts", "worker.js", "models", "README.md", "LICENSE-MIT", "LICENSE-APACHE"])];
+p.peerDependencies = { three: ">=0.150.0" };
+p.peerDependenciesMeta = { three: { optional: true } };
 p.license = "MIT OR Apache-2.0";
 p.sideEffects = ["./worker.js"];
-p.exports = { ".": { types: "./deeprep.d.ts", default: "./deeprep.js" }, "./client.js": { types: "./client.d.ts", default: "./client.js" }, "./worker.js": "./worker.js", "./deeprep_bg.wasm": "./deeprep_bg.wasm" };
+p.exports = { ".": { types: "./deeprep.d.ts", default: "./deeprep.js" }, "./client.js": { types: "./client.d.ts", default: "./client.js" }, "./three.js": { types: "./three.d.ts", default: "./three.js" }, "./worker.js": "./worker.js", "./deeprep_bg.wasm": "./deeprep_bg.wasm" };
 fs.writeFileSync("pkg/package.json", JSON.stringify(p, null, 2) + "\n");
 '
 (cd pkg && npm pack --silent >/dev/null)

@@ -49,6 +49,7 @@ export class DeeprepClient {
       throw new DeeprepError('E_MODEL_LOAD', `the in-betweening models could not be loaded: ${info.modelError}`);
     }
     c.skeletonBvh = info.skeletonBvh;
+    c.skeleton = info.skeleton; // { names, parents (-1: root), offsets (joints x 3) }
     c.hasModel = info.hasModel;
     c.defaultVariation = info.defaultVariation;
     c.modelError = info.modelError;
@@ -114,6 +115,15 @@ export class DeeprepClient {
 
   /** In-betweening (or SLERP+LERP with method 'slerp'); `opts.signal` aborts it. */
   synthesize({ signal, ...opts }) { return this.request({ type: 'synthesize', ...opts }, [], { signal }); }
+  /** One call from a user's clip to motion (the CLI's `--from-bvh --keys`): `bvh` is BVH
+   * text or bytes on the model's skeleton at any frame rate; `keys` are frames of that clip.
+   * Resolves with the whole clip (its frame rate and length), the span between the first
+   * and last key synthesized. */
+  synthesizeFromBvh(bvh, { keys, method = 'model', post = true, variation, footLock, signal } = {}) {
+    const bytes = typeof bvh === 'string' ? new TextEncoder().encode(bvh) : new Uint8Array(bvh).slice();
+    return this.request({ type: 'synthesizeFromBvh', bytes: bytes.buffer, keys: Array.from(keys || []), method, post, variation, footLock },
+                        [bytes.buffer], { signal });
+  }
   /** Parses BVH bytes in the worker and checks its skeleton against the model's:
    * resolves with { jointNames, channelCount, frameTime, frameCount, motion, positions, bvh }. */
   importBvh(bytes, { signal } = {}) {

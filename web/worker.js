@@ -9,6 +9,7 @@
 //   -> {type: 'rcAngles', id, channels, joint} / {type: 'setRcAngles', id, channels, joint, angles}
 //   -> {type: 'ik', id, positions, frames}   (IK from joint positions; the IK model loads on first use)
 //   -> {type: 'importBvh', id, bytes}        (parse a user's file here, never on the page)
+//   -> {type: 'synthesizeFromBvh', id, bytes, keys, method, post, variation, footLock}
 //   <- {type: 'error', id, code, message, trapped}: trapped when the wasm instance
 //      hit a RuntimeError (a deeprep bug); the client then replaces this worker.
 import init, { Inbetweener, IkSolver, BvhClip } from './pkg/deeprep.js';
@@ -25,7 +26,7 @@ function coded(code, message) {
 }
 
 // The code of an uncoded failure, by the request that failed.
-const DEFAULT_CODE = { init: 'E_MODEL_LOAD', synthesize: 'E_BAD_KEYS', importBvh: 'E_BAD_BVH' };
+const DEFAULT_CODE = { init: 'E_MODEL_LOAD', synthesize: 'E_BAD_KEYS', synthesizeFromBvh: 'E_BAD_BVH', importBvh: 'E_BAD_BVH' };
 
 // Where each model file is: under msg.modelBase, or the package's own copies,
 // written as literal `new URL(..., import.meta.url)` so bundlers ship them.
@@ -92,8 +93,9 @@ async function handleInit(msg) {
     model = new Inbetweener(g, p, m);
     const skel = BvhClip.parse(model.skeletonBvh);
     skeletonNames = skel.jointNames;
+    const skeleton = { names: skeletonNames, parents: Array.from(skel.parents), offsets: Array.from(skel.offsets) };
     skel.free();
-    postMessage({ type: 'ready', skeletonBvh: model.skeletonBvh, hasModel: true, defaultVariation: model.defaultVariation });
+    postMessage({ type: 'ready', skeletonBvh: model.skeletonBvh, skeleton, hasModel: true, defaultVariation: model.defaultVariation });
   } catch (e) {
     postMessage({ type: 'ready', skeletonBvh: null, hasModel: false, modelError: String(e.message || e) });
   }
@@ -131,6 +133,16 @@ function importBvh(msg) {
   }
 }
 
+/** Posts a synthesis result (and frees it): BVH text, global positions, and
+ * the local tracks (translations, quaternions) that three.js and glTF take. */
+function postResult(id, method, r) {
+  const positions = r.positions, translations = r.translations, quaternions = r.quaternions;
+  postMessage({ type: 'result', id, method, bvh: r.bvh, frames: r.frames, frameTime: r.frameTime, times: Array.from(r.times),
+                keyError: Array.from(r.keyError), positions, translations, quaternions },
+              [positions.buffer, translations.buffer, quaternions.buffer]);
+  r.free();
+}
+
 function handle(msg) {
   const { id } = msg;
   if (msg.type === 'importBvh') { importBvh(msg); return; }
@@ -143,10 +155,12 @@ function handle(msg) {
       ? model.interpolate(kf, kc, msg.frames)
       : model.synthesize(kf, kc, msg.frames, msg.post, new Float32Array(msg.dna || []), msg.variation, msg.footLock);
     postMessage({ type: 'progress', id, stage: 'writing BVH', fraction: 0.9 });
-    const positions = r.positions;
-    postMessage({ type: 'result', id, method: msg.method, bvh: r.bvh, frames: r.frames, times: Array.from(r.times),
-                  keyError: Array.from(r.keyError), positions }, [positions.buffer]);
-    r.free();
+    postResult(id, msg.method, r);
+  } else if (msg.type === 'synthesizeFromBvh') {
+    postMessage({ type: 'progress', id, stage: 'reading the clip and synthesizing', fraction: 0.1 });
+    const r = model.synthesizeFromBvh(new Uint8Array(msg.bytes), new Uint32Array(msg.keys), msg.method || 'model',
+                                      msg.post ?? true, msg.variation, msg.footLock);
+    postResult(id, msg.method || 'model', r);
   } else if (msg.type === 'rcAngles') {
     postMessage({ type: 'result', id, angles: Array.from(model.rcAngles(new Float32Array(msg.channels), msg.joint)) });
   } else if (msg.type === 'setRcAngles') {

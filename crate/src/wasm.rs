@@ -213,8 +213,28 @@ pub struct InbetweenResult {
     bvh: String,
     positions: Vec<f32>,
     frames: usize,
+    frame_time: f64,
+    tracks: crate::skeleton::fk::LocalTracks,
     times: Vec<f64>,
     key_error: Vec<f64>,
+}
+
+impl InbetweenResult {
+    fn new(
+        b: &crate::skeleton::Bvh,
+        times: Vec<f64>,
+        key_error: Vec<f64>,
+    ) -> Result<InbetweenResult, JsError> {
+        Ok(InbetweenResult {
+            bvh: b.write(),
+            positions: crate::skeleton::fk::positions(b, 0, b.frame_count()).map_err(js_err)?,
+            frames: b.frame_count(),
+            frame_time: b.frame_time,
+            tracks: crate::skeleton::fk::local_tracks(b),
+            times,
+            key_error,
+        })
+    }
 }
 
 #[wasm_bindgen]
@@ -233,6 +253,21 @@ impl InbetweenResult {
     #[wasm_bindgen(getter)]
     pub fn frames(&self) -> usize {
         self.frames
+    }
+    /// Seconds per frame.
+    #[wasm_bindgen(getter, js_name = frameTime)]
+    pub fn frame_time(&self) -> f64 {
+        self.frame_time
+    }
+    /// Local translations (offset plus position channels), `frames × joints × 3`.
+    #[wasm_bindgen(getter)]
+    pub fn translations(&self) -> Vec<f32> {
+        self.tracks.translations.clone()
+    }
+    /// Local rotations as quaternions `[x, y, z, w]`, `frames × joints × 4`.
+    #[wasm_bindgen(getter)]
+    pub fn quaternions(&self) -> Vec<f32> {
+        self.tracks.quaternions.clone()
     }
     /// Milliseconds per stage: generator, RC-FK, path, post-processing.
     #[wasm_bindgen(getter)]
@@ -278,14 +313,7 @@ fn result_from(
     key_error: Vec<f64>,
 ) -> Result<InbetweenResult, JsError> {
     let bvh = motion.to_bvh(template, 1.0 / 60.0).map_err(js_err)?;
-    let positions = crate::skeleton::fk::positions(&bvh, 0, bvh.frame_count()).map_err(js_err)?;
-    Ok(InbetweenResult {
-        bvh: bvh.write(),
-        positions,
-        frames: motion.len(),
-        times,
-        key_error,
-    })
+    InbetweenResult::new(&bvh, times, key_error)
 }
 
 #[wasm_bindgen]
@@ -451,6 +479,64 @@ impl Inbetweener {
                     "joint {joint} is not rotated by RC-FK (the root and End Sites are not)"
                 ))
             })
+    }
+
+    /// In-betweening inside a user's clip (BVH bytes on the model's
+    /// skeleton, any frame rate): whole-pose keys from its frames
+    /// `keyFrames` (the clip's own numbering), the motion between the first
+    /// and last key synthesized at 60 fps (`method` "model" or "slerp"),
+    /// then returned at the clip's frame rate and length, every other frame
+    /// and the keys themselves unchanged.
+    #[wasm_bindgen(js_name = synthesizeFromBvh)]
+    pub fn synthesize_from_bvh(
+        &self,
+        bvh: &[u8],
+        key_frames: &[u32],
+        method: &str,
+        post_process: bool,
+        variation: Option<f32>,
+        foot_lock: Option<bool>,
+    ) -> Result<InbetweenResult, JsError> {
+        use crate::motion::clip;
+        let b = crate::skeleton::Bvh::parse_bytes(bvh).map_err(js_err)?;
+        clip::check_skeleton(&b, &self.inner.template).map_err(js_err)?;
+        let frames: Vec<usize> = key_frames.iter().map(|&f| f as usize).collect();
+        let ck = clip::clip_keys(&b, &frames, true).map_err(js_err)?;
+        let (motion, times, key_error) = match method {
+            "slerp" => (
+                crate::motion::baseline::slerp_lerp(&ck.keys, ck.frames()).map_err(js_err)?,
+                vec![0.0; 4],
+                vec![0.0; 4],
+            ),
+            "model" => {
+                let req = crate::motion::pipeline::Request {
+                    keys: ck.keys.clone(),
+                    frames: ck.frames(),
+                    dna: None,
+                    post_process,
+                    foot_lock: (post_process && foot_lock.unwrap_or(false))
+                        .then(crate::motion::feet::FootLock::default),
+                    variation,
+                };
+                let out = self
+                    .inner
+                    .synthesize(&req, &|| js_sys::Date::now())
+                    .map_err(js_err)?;
+                let (t, e) = (&out.times, (&out.key_error_raw, &out.key_error));
+                (
+                    out.motion.clone(),
+                    vec![t.generator_ms, t.rcfk_ms, t.path_ms, t.post_ms],
+                    vec![e.0.root, e.0.local, e.1.root, e.1.local],
+                )
+            }
+            m => {
+                return Err(JsError::new(&format!(
+                    "unknown method '{m}'; accepted: model, slerp"
+                )))
+            }
+        };
+        let out = clip::splice(&b, &ck, &motion).map_err(js_err)?;
+        InbetweenResult::new(&out, times, key_error)
     }
 
     /// The SLERP+LERP baseline on the same inputs (labelled as such in UIs).

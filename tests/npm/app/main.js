@@ -1,0 +1,55 @@
+// The app that tests/npm/vite_smoke.sh and webpack_smoke.sh build against
+// the packed tarball and run in headless Chromium (tests/npm/run_dist.mjs):
+// DeeprepClient.create() with no arguments (the models shipped in the
+// package), a BVH parsed in the worker, a synthesis, a 120 fps clip
+// in-betweened, the three.js helper against BVHLoader, and a coded error.
+// It sets body[data-done], or body[data-error] with the reason.
+import init, { convertRotations, BvhClip, version } from 'deeprep';
+import { DeeprepClient } from 'deeprep/client.js';
+import { toThree } from 'deeprep/three.js';
+import { AnimationMixer, Quaternion } from 'three';
+import { BVHLoader } from 'three/examples/jsm/loaders/BVHLoader.js';
+try {
+  await init();
+  const sixd = convertRotations('quat', '6d', new Float32Array([0, 0, 0, 1]));
+  const client = await DeeprepClient.create();
+  const skel = BvhClip.parse(client.skeletonBvh);
+  const row = Array.from({ length: skel.channelCount }, (_, i) => (i === 1 ? 90 : 0));
+  const clip = await client.importBvh(new TextEncoder().encode(
+    `${client.skeletonBvh.replace(/MOTION[\s\S]*/, '')}MOTION\nFrames: 2\nFrame Time: 0.0166667\n${row.join(' ')}\n${row.join(' ')}\n`));
+  const r = await client.synthesize({ keyFrames: [0, 59], keyChannels: [...row, ...row], frames: 60, post: true });
+  // a 120 fps clip of 121 frames on the model's skeleton, keys at its frames 0, 60 and 120:
+  // synthesized at 60 fps and returned at 120 fps with the clip's length
+  const head = client.skeletonBvh.replace(/MOTION[\s\S]*/, '');
+  const rows = Array.from({ length: 121 }, (_, f) => row.map((v, i) => (i === 0 ? f * 0.5 : i === 7 ? 20 * Math.sin(f / 20) : v)).join(' '));
+  const fromClip = await client.synthesizeFromBvh(`${head}MOTION\nFrames: 121\nFrame Time: 0.00833333\n${rows.join('\n')}\n`, { keys: [0, 60, 120] });
+  if (fromClip.frames !== 121 || !/Frame Time: 0.00833333/.test(fromClip.bvh)) throw new Error(`synthesizeFromBvh: ${fromClip.frames} frames`);
+  // three.js without text: the same tracks as BVHLoader on the BVH text, and the clip plays
+  const three = toThree(r, client.skeleton);
+  const ref = new BVHLoader().parse(r.bvh);
+  let worst = 0, compared = 0;
+  for (const t of ref.clip.tracks) {
+    const mine = three.clip.tracks.find((x) => x.name === t.name);
+    if (!mine) throw new Error(`toThree lacks track ${t.name}`);
+    const q = t.name.endsWith('.quaternion');
+    for (let i = 0; i < t.values.length; i += q ? 4 : 3) {
+      const sign = q && (t.values[i] * mine.values[i] + t.values[i + 1] * mine.values[i + 1] + t.values[i + 2] * mine.values[i + 2] + t.values[i + 3] * mine.values[i + 3]) < 0 ? -1 : 1;
+      for (let k = 0; k < (q ? 4 : 3); k++) worst = Math.max(worst, Math.abs(t.values[i + k] - sign * mine.values[i + k]));
+    }
+    compared++;
+  }
+  if (compared < 40 || worst > 2e-3) throw new Error(`toThree vs BVHLoader: ${compared} tracks, max difference ${worst}`);
+  const mixer = new AnimationMixer(three.root);
+  mixer.clipAction(three.clip).play();
+  mixer.update(0.5);
+  const bone = three.bones[1], track = three.clip.tracks.find((x) => x.name === `${bone.name}.quaternion`);
+  const want = new Quaternion().fromArray(track.values, 30 * 4);
+  if (Math.abs(Math.abs(bone.quaternion.dot(want)) - 1) > 1e-4) throw new Error('the clip did not play');
+  let code = null;
+  await client.importBvh(new TextEncoder().encode('HIERARCHY\nnot a bvh')).catch((e) => { code = e.code; });
+  if (r.frames !== 60 || clip.frameCount !== 2 || code !== 'E_BAD_BVH') throw new Error(`unexpected: ${r.frames} ${clip.frameCount} ${code}`);
+  document.getElementById('out').textContent = `deeprep ${version()} 6d ${Array.from(sixd)}; synthesized ${r.frames} frames; a 120 fps clip in-betweened (${fromClip.frames} frames); three.js: ${compared} tracks as BVHLoader's (max difference ${worst.toExponential(1)}), played; bad BVH -> ${code}`;
+  document.body.dataset.done = '1';
+} catch (e) {
+  document.body.dataset.error = `${e.code || ''} ${e.message}`;
+}
