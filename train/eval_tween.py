@@ -50,13 +50,15 @@ from data_pipeline import DATA, TRUE_FPS, VALIDATION, take_of  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 GAPS = [int(g) for g in os.environ.get("EVAL_GAPS", "30,60,120,300").split(",")]
-METHODS = os.environ.get("EVAL_METHODS", "zerovel,slerp,model,model-lock,variation-1").split(",")
+METHODS = os.environ.get("EVAL_METHODS", "zerovel,slerp,model,model-lock,variation-1,residual").split(",")
 # "model-nolock": the model with post-processing that makes keys exact
 # but leaves the feet as synthesized (CLI --no-foot-lock).
 METHOD_ARGS = {"model-nolock": ["--method", "model", "--no-foot-lock"],
                "model-lock": ["--method", "model", "--foot-lock"],
                # diagnostic: the same without post-processing (keys not made exact)
-               "model-nopost": ["--method", "model", "--no-post"]}
+               "model-nopost": ["--method", "model", "--no-post"],
+               # the supervised residual on SLERP+LERP (issue 19, stage 1; train/tween_resid.py)
+               "residual": ["--method", "residual"]}
 # "variation-V" (e.g. variation-1, the networks as trained): the model without
 # foot locking at --variation V, the share of the networks' departure from
 # SLERP+LERP kept (0 is SLERP+LERP itself).
@@ -228,6 +230,10 @@ def score(acc, pred, truth, keys, feet, floor, mu, sd):
         contact = fp[1:, :, 1] < floor + 5
         acc["skate"].append(float(v[contact].mean()) if contact.any() else 0.0)
         acc["accel"].append(accel(ppos[a:b + 1]))
+        # joint speed relative to the root over the in-between frames (issue 19)
+        rel = lambda p: p[a:b + 1] - p[a:b + 1, :1]  # noqa: E731
+        acc["speed"].append(float(np.linalg.norm(np.diff(rel(ppos), axis=0), axis=-1).mean()))
+        acc["gt_speed"].append(float(np.linalg.norm(np.diff(rel(gpos), axis=0), axis=-1).mean()))
 
 
 def hybrid_columns(bvh, group):
@@ -338,7 +344,8 @@ def main():
     mu, sd = flat.mean(0), flat.std(0) + 1e-6
     if DIAGNOSTICS and not (HYBRID_BASE and "slerp" in METHODS):
         sys.exit("EVAL_HYBRIDS, EVAL_BLEND and EVAL_CUBIC need slerp and model (or model-nolock) in EVAL_METHODS")
-    acc = {(m, g): {"l2p": [], "l2q": [], "gt": [], "pred": [], "skate": [], "accel": [], "keyraw": [], "key": []}
+    acc = {(m, g): {"l2p": [], "l2q": [], "gt": [], "pred": [], "skate": [], "accel": [], "speed": [], "gt_speed": [],
+                    "keyraw": [], "key": []}
            for m in METHODS + DIAGNOSTICS for g in GAPS}
     gt_skate, gt_accel = [], []
     with tempfile.TemporaryDirectory() as tmp:
@@ -398,6 +405,7 @@ def main():
             "NPSS": float(np.mean([npss(x[None], y[None]) for x, y in zip(a["gt"], a["pred"])])),
             "foot_skate": float(np.mean(a["skate"])),
             "acceleration": float(np.mean(a["accel"])),
+            "speed_ratio": float(np.mean(a["speed"]) / max(np.mean(a["gt_speed"]), 1e-12)),
         }
         if a["key"]:
             res[f"{m}@{g}"]["key_error_before_post"] = np.mean(a["keyraw"], 0).tolist()
@@ -410,7 +418,7 @@ def main():
         json.dump(res, f, indent=1)
     print("| metric | method | " + " | ".join(f"gap {g}" for g in GAPS) + " |")
     print("|---|---|" + "---|" * len(GAPS))
-    for metric in ["L2P", "L2Q", "NPSS", "foot_skate", "acceleration"]:
+    for metric in ["L2P", "L2Q", "NPSS", "foot_skate", "acceleration", "speed_ratio"]:
         for m in METHODS + DIAGNOSTICS:
             print(f"| {metric} | {m} | " + " | ".join(f"{res[f'{m}@{g}'][metric]:.3f}" for g in GAPS) + " |")
     print(f"ground-truth foot skating: {res['ground_truth_foot_skate']:.3f} units/frame")

@@ -62,11 +62,13 @@ models = f"""<!-- models -->
 {hair_row}<!-- /models -->"""
 rows = []
 for metric, label in [("L2P", "L2P"), ("L2Q", "L2Q"), ("NPSS", "NPSS"), ("foot_skate", "foot skating (units/frame)"),
-                      ("acceleration", "joint acceleration (units/frame²)")]:
+                      ("acceleration", "joint acceleration (units/frame²)"),
+                      ("speed_ratio", "joint speed relative to the root, share of the truth's")]:
     for m, name in [("zerovel", "zero-velocity"), ("slerp", "SLERP+LERP"), ("model", "model"),
                     ("model-lock", "model with foot locking (`--foot-lock`)"),
-                    ("variation-1", "networks as trained (`--variation 1`, no foot locking)")]:
-        if f"{m}@30" not in ev:
+                    ("variation-1", "networks as trained (`--variation 1`, no foot locking)"),
+                    ("residual", "supervised residual on SLERP+LERP (`--method residual`, issue 19 stage 1)")]:
+        if f"{m}@30" not in ev or metric not in ev[f"{m}@30"]:
             continue
         rows.append(f"| {label} | {name} | " + " | ".join(f"{ev[f'{m}@{g}'][metric]:.3f}" for g in gaps) + " |")
 kb = " | ".join(f"{ev[f'model@{g}']['key_error_before_post'][0]:.1f} / {ev[f'model@{g}']['key_error_before_post'][1]:.1f}" for g in gaps)

@@ -478,6 +478,50 @@ def evaluate(args):
     return res
 
 
+def export(args):
+    """models/onnx/tween_residual.onnx (the weights' moving average; input
+    [1, 3 + 6K + 4, N], N free), its manifest and a parity fixture."""
+    import onnxruntime as ort
+    from export_tween import fixture
+    from export_util import ONNX_DIR, git_commit, write_json
+    s = torch.load(args.ckpt)
+    net = ResidualTween(s["K"], s["width"])
+    net.load_state_dict({k: v.float() for k, v in s["ema"].items()})
+    net.eval()
+    d = np.load(args.data)
+    skel = Skeleton(d)
+    gen_manifest = json.load(open(os.path.join(ONNX_DIR, "tween_generator.manifest.json")))
+    cin = 3 + 6 * skel.K + 4
+    path = os.path.join(ONNX_DIR, "tween_residual.onnx")
+    x = torch.randn(1, cin, 40, generator=torch.Generator().manual_seed(0))
+    torch.onnx.export(net, (x,), path, input_names=["x"], output_names=["residual"], opset_version=17,
+                      dynamic_axes={"x": {2: "frames"}, "residual": {2: "frames"}}, dynamo=False)
+    with torch.no_grad():
+        ref = net(x).numpy()
+    sess = ort.InferenceSession(path, providers=["CPUExecutionProvider"])
+    parity = fixture("tween_residual", sess, {"x": x.numpy()}, ref)
+    write_json(os.path.join(ONNX_DIR, "tween_residual.manifest.json"), {
+        "name": "tween_residual",
+        "kind": "residual-tween",
+        "description": "supervised residual on SLERP+LERP in the first key's frame (train/tween_resid.py; issue 19, stage 1)",
+        "inputs": [{"name": "x", "shape": [1, cin, "frames"],
+                    "channels": "root position in the first key's frame / scale (3), 6D of each joint with channels "
+                                "in file order, the root's in that frame (6K), then s, frames since the previous key / 60, "
+                                "frames to the next key / 60, gate"}],
+        "outputs": [{"name": "residual", "shape": [1, 3 + 6 * skel.K, "frames"]}],
+        "scale": SCALE,
+        "gate_frames": GATE_FRAMES,
+        "rotating": skel.rotating,
+        "skeleton_bvh": gen_manifest["skeleton_bvh"],
+        "training": {"steps": int(s["step"]), "width": int(s["width"]), "checkpoint": os.path.relpath(args.ckpt, ROOT)},
+        "parity_torch_vs_onnxruntime": parity,
+        "training_data": "CMU train takes at 60 fps (59,290 frames, train/data_pipeline.py's split and floor filter), mirrored",
+        "training_code_commit": git_commit(),
+        "exporter": {"torch": torch.__version__, "onnxruntime": ort.__version__, "opset": 17},
+    })
+    print(f"exported {path} (step {s['step']}), parity {parity:.2e}")
+
+
 def portable(args):
     """The running checkpoint's weights and moving average in float16."""
     s = torch.load(os.path.join(args.out, "ckpt.pt"))
@@ -489,7 +533,7 @@ def portable(args):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("cmd", choices=["prepare", "train", "eval", "portable"])
+    ap.add_argument("cmd", choices=["prepare", "train", "eval", "portable", "export"])
     ap.add_argument("--data", default=os.path.join(CACHE, "resid60.npz"))
     ap.add_argument("--out", default=OUT)
     ap.add_argument("--minutes", type=float, default=60)
@@ -515,6 +559,8 @@ def main():
         train(args)
     elif args.cmd == "portable":
         portable(args)
+    elif args.cmd == "export":
+        export(args)
     else:
         evaluate(args)
 

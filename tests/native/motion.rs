@@ -240,6 +240,57 @@ fn fixture_parity(name: &str) {
 fn tract_matches_onnxruntime_on_the_tween_models() {
     fixture_parity("tween_generator");
     fixture_parity("tween_path");
+    fixture_parity("tween_residual");
+}
+
+/// The residual network (issue 19, stage 1): keys exact by construction,
+/// variation 0 is SLERP+LERP exactly, frames outside the keys hold them,
+/// and bad variations are errors.
+#[test]
+fn the_residual_model_keeps_keys_and_scales_by_variation() {
+    let dir = root().join("models/onnx");
+    if !dir.join("tween_residual.onnx").exists() {
+        eprintln!("SKIP: models/onnx/tween_residual.onnx is not exported yet");
+        return;
+    }
+    let m = deeprep::motion::residual::ResidualModel::load_dir(&dir).unwrap();
+    let mut keys = Vec::new();
+    for (i, f) in [10usize, 70, 250].iter().enumerate() {
+        let mut b: Bvh = m.template.clone();
+        let mut ch = vec![0.0f32; b.channel_count()];
+        ch[0] = 40.0 * i as f32;
+        ch[1] = 85.0;
+        ch[3] = 30.0 * i as f32;
+        ch[7] = 20.0 - 15.0 * i as f32;
+        b.motion = ch;
+        keys.push(Keyframe::from_bvh(&b, 0, *f).unwrap());
+    }
+    let frames = 280;
+    let out = m.synthesize(&keys, frames, 1.0).unwrap();
+    let plain = slerp_lerp(&keys, frames).unwrap();
+    assert_eq!(out.len(), frames);
+    for k in &keys {
+        for (a, b) in out.rotations[k.frame].iter().zip(&plain.rotations[k.frame]) {
+            assert!(geodesic_distance(a, b) < 1e-9, "key {}", k.frame);
+        }
+        assert_eq!(out.root[k.frame], plain.root[k.frame]);
+    }
+    for t in (0..10).chain(251..frames) {
+        assert_eq!(out.root[t], plain.root[t], "frame {t} holds its key");
+    }
+    let moved = (11..250)
+        .map(|t| geodesic_distance(&out.rotations[t][1], &plain.rotations[t][1]))
+        .fold(0.0, f64::max);
+    assert!(
+        moved > 1e-4,
+        "the network changes the in-betweens ({moved})"
+    );
+    assert!(out.root.iter().flatten().all(|v| v.is_finite()));
+    let zero = m.synthesize(&keys, frames, 0.0).unwrap();
+    assert_eq!(zero.root, plain.root);
+    assert_eq!(zero.rotations, plain.rotations);
+    assert!(m.synthesize(&keys, frames, 2.5).is_err());
+    assert!(m.synthesize(&keys, frames, f32::NAN).is_err());
 }
 
 #[test]

@@ -27,10 +27,12 @@ const USAGE: &str = "usage:
       root position, root 6D, range-constrained Euler angles in radians, clamped to
       Table D.1), little-endian f32; for the training pipeline
   deeprep inbetween --from-bvh CLIP.bvh --keys F1,F2,... -o OUT.bvh
-          [--method model|slerp|zerovel] [--models DIR] [--no-post] [--foot-lock] [--variation V]
+          [--method model|residual|slerp|zerovel] [--models DIR] [--no-post] [--foot-lock] [--variation V]
           [--dna F1,F2,...|DNA.bvh [--seed S]]
       whole-pose keys from those frames of CLIP; OUT has CLIP's length, frame rate and
       skeleton; frames between the first and last key are synthesized, the others copied
+      --method residual: the supervised residual on SLERP+LERP (models/onnx/tween_residual.onnx;
+      --variation scales its correction, 1 by default)
   deeprep inbetween KEYS.json --frames N [-o OUT.bvh] [--models DIR] [--no-post] [--foot-lock] [--variation V] [--dna DNA.bvh [--seed S]]
       --no-post: keys not made exact; --foot-lock: after that, pin feet in contact by two-bone IK
       (off by default: at the default variation it raised L2P, NPSS and foot skating on training takes)
@@ -455,6 +457,20 @@ fn synthesize(
             baseline::zero_velocity(keys, frames).map_err(|e| e.to_string())?,
             String::new(),
         )),
+        "residual" => {
+            if o.foot_lock || dna.is_some() || !o.post {
+                return Err("--method residual takes no --foot-lock, --dna or --no-post (its keys are exact by construction)".into());
+            }
+            let m =
+                deeprep::motion::residual::ResidualModel::load_dir(std::path::Path::new(&o.models))
+                    .map_err(|e| e.to_string())?;
+            let start = std::time::Instant::now();
+            let motion = m
+                .synthesize(keys, frames, o.variation.unwrap_or(1.0))
+                .map_err(|e| e.to_string())?;
+            let info = format!("{:.1} ms", start.elapsed().as_secs_f64() * 1000.0);
+            Ok((motion, info))
+        }
         "model" => {
             let m = pipeline::TweenModels::load_dir(std::path::Path::new(&o.models))
                 .map_err(|e| e.to_string())?;
@@ -485,7 +501,7 @@ fn synthesize(
             Ok((out.motion, info))
         }
         other => Err(format!(
-            "unknown --method '{other}' (model, slerp, zerovel)"
+            "unknown --method '{other}' (model, residual, slerp, zerovel)"
         )),
     }
 }

@@ -5,6 +5,7 @@
 //! - [`dense`]: the dense keyframe input of Fig. 5.3.
 //! - [`pipeline`]: generator → RC-FK → path predictor → integrated root →
 //!   post-processing, on ONNX models run by tract.
+//! - [`residual`]: a supervised residual on SLERP+LERP (issue 19, stage 1).
 //! - [`baseline`]: SLERP+LERP and zero-velocity.
 //! - [`clip`]: keys from frames of a user's clip, the result spliced back (any frame rate).
 //! - [`post`]: the correction that makes keyframes exact (Sec. 5.2.6).
@@ -20,6 +21,8 @@ pub mod keys;
 #[cfg(feature = "onnx")]
 pub mod pipeline;
 pub mod post;
+#[cfg(feature = "onnx")]
+pub mod residual;
 pub mod spline;
 
 use crate::error::{Error, Result};

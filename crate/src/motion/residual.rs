@@ -1,0 +1,257 @@
+//! A supervised residual on SLERP+LERP (issue 19, stage 1;
+//! `train/tween_resid.py`): a 1-D convolutional network reads SLERP+LERP of
+//! whole-pose keys in the first key's frame (its root x/z and heading
+//! removed) with each frame's phase between its keys, and outputs a
+//! correction of the root position and of every joint's 6D rotation value
+//! (ch. 4's continuous representation), scaled by a gate that is 0 at keys,
+//! so keys are exact without post-processing.
+//!
+//! `variation` scales the correction: 0 is SLERP+LERP exactly, 1 the
+//! network as trained.
+
+use super::baseline::slerp_lerp;
+use super::{Keyframe, Motion};
+use crate::error::{Error, Result};
+use crate::rotation::Mat3;
+use crate::runtime::{Model, TensorF32};
+use crate::skeleton::Bvh;
+use serde::Deserialize;
+
+#[derive(Deserialize)]
+struct Manifest {
+    kind: String,
+    skeleton_bvh: String,
+    rotating: Vec<usize>,
+    scale: f64,
+    gate_frames: f64,
+}
+
+/// The residual in-betweening network with its skeleton.
+pub struct ResidualModel {
+    net: Model,
+    /// The skeleton as a BVH with no frames.
+    pub template: Bvh,
+    rotating: Vec<usize>,
+    scale: f64,
+    gate_frames: f64,
+}
+
+type V3 = [f64; 3];
+
+fn mul(a: &Mat3<f64>, b: &Mat3<f64>) -> Mat3<f64> {
+    crate::rotation::mul(a, b)
+}
+
+fn transpose(m: &Mat3<f64>) -> Mat3<f64> {
+    std::array::from_fn(|i| std::array::from_fn(|j| m[j][i]))
+}
+
+fn apply(m: &Mat3<f64>, v: V3) -> V3 {
+    std::array::from_fn(|i| m[i][0] * v[0] + m[i][1] * v[1] + m[i][2] * v[2])
+}
+
+/// The first two columns, as `train/tween_resid.py`'s `sixd`.
+fn sixd(m: &Mat3<f64>) -> [f64; 6] {
+    [m[0][0], m[1][0], m[2][0], m[0][1], m[1][1], m[2][1]]
+}
+
+/// Gram-Schmidt back to a rotation (columns b1, b2, b1 × b2).
+fn from_sixd(r: &[f64; 6]) -> Option<Mat3<f64>> {
+    let norm = |v: V3| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    let (a1, a2) = ([r[0], r[1], r[2]], [r[3], r[4], r[5]]);
+    let n1 = norm(a1);
+    if !(n1 > 1e-9) {
+        return None;
+    }
+    let b1 = a1.map(|x| x / n1);
+    let d = b1[0] * a2[0] + b1[1] * a2[1] + b1[2] * a2[2];
+    let u: V3 = std::array::from_fn(|i| a2[i] - d * b1[i]);
+    let n2 = norm(u);
+    if !(n2 > 1e-9) {
+        return None;
+    }
+    let b2 = u.map(|x| x / n2);
+    let b3 = [
+        b1[1] * b2[2] - b1[2] * b2[1],
+        b1[2] * b2[0] - b1[0] * b2[2],
+        b1[0] * b2[1] - b1[1] * b2[0],
+    ];
+    Some(std::array::from_fn(|i| [b1[i], b2[i], b3[i]]))
+}
+
+/// Rotation by `t` radians about y, as `train/tween_resid.py`'s `rot_y`.
+fn rot_y(t: f64) -> Mat3<f64> {
+    let (s, c) = t.sin_cos();
+    [[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]]
+}
+
+impl ResidualModel {
+    /// Loads the network (the bytes of `tween_residual.onnx`) and its manifest.
+    pub fn new(onnx: &[u8], manifest_json: &str) -> Result<Self> {
+        let m: Manifest = serde_json::from_str(manifest_json)
+            .map_err(|e| Error::Invalid(format!("residual manifest: {e}")))?;
+        if m.kind != "residual-tween" {
+            return Err(Error::Invalid(format!(
+                "residual manifest: kind '{}', expected 'residual-tween'",
+                m.kind
+            )));
+        }
+        let template = Bvh::parse(&m.skeleton_bvh)?;
+        let j = template.joints.len();
+        let mut expected = template
+            .joints
+            .iter()
+            .enumerate()
+            .filter(|(_, jt)| !jt.channels.is_empty())
+            .map(|(i, _)| i);
+        if m.rotating
+            .iter()
+            .any(|&r| r >= j || expected.next() != Some(r))
+            || expected.next().is_some()
+            || m.rotating.first() != Some(&0)
+        {
+            return Err(Error::Invalid(
+                "residual manifest: 'rotating' must list the skeleton's joints with channels, the root first".into(),
+            ));
+        }
+        if !(m.scale > 0.0 && m.gate_frames > 0.0) {
+            return Err(Error::Invalid(
+                "residual manifest: scale and gate_frames must be positive".into(),
+            ));
+        }
+        Ok(ResidualModel {
+            net: Model::from_onnx_bytes(onnx)?,
+            template,
+            rotating: m.rotating,
+            scale: m.scale,
+            gate_frames: m.gate_frames,
+        })
+    }
+
+    /// Loads `tween_residual.onnx` and its manifest from a folder.
+    pub fn load_dir(dir: &std::path::Path) -> Result<Self> {
+        let read = |n: &str| {
+            std::fs::read(dir.join(n))
+                .map_err(|e| Error::Invalid(format!("{}: {e}", dir.join(n).display())))
+        };
+        let manifest = String::from_utf8(read("tween_residual.manifest.json")?)
+            .map_err(|e| Error::Invalid(e.to_string()))?;
+        Self::new(&read("tween_residual.onnx")?, &manifest)
+    }
+
+    /// In-betweens whole-pose keys over `frames` frames. Frames before the
+    /// first and after the last key hold those keys, as SLERP+LERP does.
+    pub fn synthesize(&self, keys: &[Keyframe], frames: usize, variation: f32) -> Result<Motion> {
+        if !(0.0..=2.0).contains(&variation) {
+            return Err(Error::Invalid(format!(
+                "variation {variation} is outside [0, 2] (1: the network as trained, 0: plain interpolation)"
+            )));
+        }
+        let base = slerp_lerp(keys, frames)?;
+        if base.rotations.first().map(|r| r.len()) != Some(self.template.joints.len()) {
+            return Err(Error::Shape {
+                what: "keys".into(),
+                expected: format!(
+                    "{} joints (the model's skeleton)",
+                    self.template.joints.len()
+                ),
+                found: format!("{}", base.rotations.first().map_or(0, |r| r.len())),
+            });
+        }
+        let n = frames;
+        let k = self.rotating.len();
+        let cin = 3 + 6 * k + 4;
+        // the first key's frame: its root x/z and heading removed
+        let k0 = keys[0].frame;
+        let r0 = base.rotations[k0][0];
+        let c = rot_y(-r0[0][2].atan2(r0[2][2]));
+        let ct = transpose(&c);
+        let off = [base.root[k0][0], 0.0, base.root[k0][2]];
+        let (first, last) = (k0, keys[keys.len() - 1].frame);
+        let mut x = vec![0f32; cin * n];
+        let mut gate = vec![0f64; n];
+        let mut seg = 0;
+        for t in 0..n {
+            let root = apply(&c, std::array::from_fn(|i| base.root[t][i] - off[i]));
+            for i in 0..3 {
+                x[i * n + t] = (root[i] / self.scale) as f32;
+            }
+            for (s, &j) in self.rotating.iter().enumerate() {
+                let m = if j == 0 {
+                    mul(&c, &base.rotations[t][0])
+                } else {
+                    base.rotations[t][j]
+                };
+                for (q, v) in sixd(&m).iter().enumerate() {
+                    x[(3 + 6 * s + q) * n + t] = *v as f32;
+                }
+            }
+            while seg + 2 < keys.len() && keys[seg + 1].frame <= t {
+                seg += 1;
+            }
+            let (a, b) = if keys.len() > 1 {
+                (keys[seg].frame, keys[seg + 1].frame)
+            } else {
+                (k0, k0)
+            };
+            let span = (b - a).max(1) as f64;
+            let dp = t as f64 - a as f64;
+            let dn = b as f64 - t as f64;
+            let g = if t > first && t < last {
+                1.0 - (-dp.min(dn) / self.gate_frames).exp()
+            } else {
+                0.0
+            };
+            gate[t] = g;
+            let ph = [
+                (dp / span).clamp(0.0, 1.0),
+                dp.max(0.0) / 60.0,
+                dn.max(0.0) / 60.0,
+                g,
+            ];
+            for (q, v) in ph.iter().enumerate() {
+                x[(3 + 6 * k + q) * n + t] = *v as f32;
+            }
+        }
+        let out = self.net.run(&[TensorF32::new(x, vec![1, cin, n])?])?;
+        let res = out
+            .into_iter()
+            .next()
+            .ok_or_else(|| Error::Model("the residual network gave no output".into()))?;
+        let cout = 3 + 6 * k;
+        if res.shape != [1, cout, n] {
+            return Err(Error::Model(format!(
+                "residual output {:?}, expected [1, {cout}, {n}]",
+                res.shape
+            )));
+        }
+        crate::error::check_finite("residual network output", &res.data)?;
+        let r = |ch: usize, t: usize| res.data[ch * n + t] as f64;
+        let mut m = base.clone();
+        for t in 0..n {
+            let w = variation as f64 * gate[t];
+            if w == 0.0 {
+                continue;
+            }
+            let root = apply(&c, std::array::from_fn(|i| base.root[t][i] - off[i]));
+            let moved: V3 = std::array::from_fn(|i| root[i] + w * r(i, t) * self.scale);
+            let back = apply(&ct, moved);
+            m.root[t] = std::array::from_fn(|i| back[i] + off[i]);
+            for (s, &j) in self.rotating.iter().enumerate() {
+                let b = if j == 0 {
+                    mul(&c, &base.rotations[t][0])
+                } else {
+                    base.rotations[t][j]
+                };
+                let b6 = sixd(&b);
+                let v: [f64; 6] = std::array::from_fn(|q| b6[q] + w * r(3 + 6 * s + q, t));
+                let rot = from_sixd(&v).ok_or_else(|| Error::Degenerate {
+                    what: "residual 6D output".into(),
+                    index: t,
+                })?;
+                m.rotations[t][j] = if j == 0 { mul(&ct, &rot) } else { rot };
+            }
+        }
+        Ok(m)
+    }
+}
