@@ -439,3 +439,50 @@ fn gltf_keys_and_photo_corpora() {
         assert_eq!(r.is_ok(), name.starts_with("ok-"), "{name}: {:?}", r.err());
     }
 }
+
+/// A clip whose last key time is 3·10³⁸ s (it overflowed `mesh poses`'
+/// frame count) is refused by the sample count, not looped over.
+#[test]
+fn an_endless_gltf_clip_is_refused() {
+    let mut bytes = corpus("gltf")
+        .into_iter()
+        .find(|(n, _)| n == "ok-triangle-anim.glb")
+        .unwrap()
+        .1;
+    let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let bin = 20 + json_len + 8;
+    // the animation's times [0, 1] start at byte 36 of the BIN chunk
+    assert_eq!(&bytes[bin + 40..bin + 44], &1f32.to_le_bytes());
+    bytes[bin + 40..bin + 44].copy_from_slice(&3e38f32.to_le_bytes());
+    let rig = deeprep::mesh::Rig::from_glb(&bytes).unwrap();
+    assert_eq!(rig.animations[0].duration, 3e38);
+    let e = rig.clip_sample_count(0, 30.0).unwrap_err().to_string();
+    assert!(e.contains("more than"), "{e}");
+    assert!(rig.clip_sample_count(0, f32::NAN).is_err());
+    assert!(rig.clip_sample_count(1, 30.0).is_err());
+}
+
+/// ONNX bytes: mutated copies of a bundled model load or fail with an
+/// error; a panic inside tract's import is caught natively (one mutated
+/// tween_path.onnx in 2,250 panicked at tract-onnx model.rs:187).
+#[test]
+fn mutated_onnx_bytes_are_errors_not_panics() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../models/onnx/rot6d_autoencoder.onnx");
+    let good = std::fs::read(path).unwrap();
+    let mut rng = deeprep::rng::Rng::new(22);
+    // (a panic caught inside tract's import still prints its message here)
+    let (mut ok, mut err) = (0, 0);
+    for _ in 0..300 {
+        let mut b = good.clone();
+        for _ in 0..1 + rng.below(4) {
+            let i = rng.below(b.len());
+            b[i] = (rng.below(256)) as u8;
+        }
+        match deeprep::runtime::Model::from_onnx_bytes(&b) {
+            Ok(_) => ok += 1,
+            Err(_) => err += 1,
+        }
+    }
+    assert_eq!(ok + err, 300);
+    assert!(err > 0, "some mutations must fail");
+}

@@ -15,7 +15,7 @@ fn emit(s: &str) {
     let _ = std::io::stdout().lock().write_all(s.as_bytes());
 }
 
-/// The most poses `mesh poses` writes per clip, and random poses in all.
+/// The most random poses `mesh poses` writes (per clip: `mesh::rig::MAX_CLIP_SAMPLES`).
 const MAX_CLIP_POSES: usize = 100_000;
 
 const USAGE: &str = "usage:
@@ -158,14 +158,9 @@ fn mesh_poses(path: &str, rest: &[&str]) -> Result<(), String> {
         Ok(())
     };
     for (k, a) in rig.animations.iter().enumerate() {
-        let frames = (a.duration as f64 * fps as f64).floor() + 1.0;
-        if !(frames >= 1.0 && frames <= MAX_CLIP_POSES as f64) {
-            return Err(format!(
-                "clip '{}' lasts {} s: at {fps} poses per second that is more than {MAX_CLIP_POSES} poses",
-                a.name, a.duration
-            ));
-        }
-        let frames = frames as usize;
+        let frames = rig
+            .clip_sample_count(k, fps)
+            .map_err(|e| e.to_string())?;
         for f in 0..frames {
             let pose = rig
                 .animation_pose(k, f as f32 / fps)

@@ -88,6 +88,9 @@ pub struct Rig {
     skins: Vec<Skin>,
 }
 
+/// The most poses [`Rig::clip_sample_count`] allows for one clip.
+pub const MAX_CLIP_SAMPLES: usize = 100_000;
+
 fn gltf_err(e: impl std::fmt::Display) -> Error {
     Error::Invalid(format!("glTF: {e}"))
 }
@@ -424,6 +427,26 @@ impl Rig {
             parts,
             skins,
         })
+    }
+
+    /// Poses a clip gives when sampled at `fps` from 0 to its duration
+    /// (both ends included); an error past [`MAX_CLIP_SAMPLES`], so a clip
+    /// whose last key time is, say, 3·10³⁸ s is refused, not looped over.
+    pub fn clip_sample_count(&self, anim: usize, fps: f32) -> Result<usize> {
+        let a = self.animations.get(anim).ok_or_else(|| {
+            Error::Invalid(format!(
+                "animation {anim} does not exist ({} clips)",
+                self.animations.len()
+            ))
+        })?;
+        let n = (a.duration as f64 * fps as f64).floor() + 1.0;
+        if !(fps > 0.0 && n >= 1.0 && n <= MAX_CLIP_SAMPLES as f64) {
+            return Err(Error::Invalid(format!(
+                "clip '{}' lasts {} s: at {fps} poses per second that is more than {MAX_CLIP_SAMPLES} poses",
+                a.name, a.duration
+            )));
+        }
+        Ok(n as usize)
     }
 
     /// Vertices of the merged mesh.
