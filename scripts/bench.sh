@@ -3,7 +3,8 @@
 # Chromium (wasm), 512-4096 frames, with the SLERP+LERP baseline beside them;
 # then the mesh autoencoder's encode/decode with tract (native, as exported
 # and with its kernels multiplied out at load), onnxruntime, and in Chromium;
-# then HairNet's Table 3.3 columns natively and in Chromium.
+# then HairNet's Table 3.3 columns natively and in Chromium; then the npm
+# package's time to first result in a Vite production build.
 # Prints JSON. Assumes scripts/setup.sh has run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,3 +17,8 @@ cargo bench --bench mesh
 node tests/web/bench_mesh_page.mjs
 cargo bench --bench hair
 node tests/web/bench_hair_page.mjs
+# The npm package as a web editor ships it: a Vite production build of
+# tests/npm/app, time from navigation to the first synthesis result
+# (median of 5 loads, each in a fresh browser profile).
+bash scripts/build-npm.sh >/dev/null
+DEEPREP_NPM_RUNS=5 bash tests/npm/vite_smoke.sh | tail -1
