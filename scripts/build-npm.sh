@@ -18,7 +18,7 @@ node_modules/.bin/wasm-opt pkg/deeprep_bg.wasm -Os --strip-debug --strip-produce
   --enable-sign-ext --enable-multivalue --enable-mutable-globals --enable-simd
 # The models the client loads by default, found beside worker.js.
 mkdir -p pkg/models
-for f in tween_generator.onnx tween_path.onnx tween_generator.manifest.json ik.onnx ik.manifest.json; do
+for f in tween_generator.onnx tween_path.onnx tween_generator.manifest.json tween_residual.onnx tween_residual.manifest.json ik.onnx ik.manifest.json; do
   cp "models/onnx/$f" pkg/models/
 done
 cp npm/README.md pkg/README.md
@@ -38,7 +38,7 @@ cat > pkg/client.d.ts <<'TS'
 export interface Progress { id: number; stage: string; fraction: number }
 /** A synthesized motion. */
 export interface SynthesisResult {
-  method: 'model' | 'slerp';
+  method: 'model' | 'residual' | 'slerp';
   /** BVH text, 60 fps, the model's skeleton. */
   bvh: string;
   frames: number;
@@ -66,7 +66,8 @@ export interface SynthesisRequest {
   footLock?: boolean;
   /** Motion DNA poses as channel rows (may be empty). */
   dna?: number[] | Float32Array;
-  method?: 'model' | 'slerp';
+  /** 'residual': the supervised residual network (variation scales its correction; no DNA, post or foot locking). */
+  method?: 'model' | 'residual' | 'slerp';
   /** Share of the networks' departure from SLERP+LERP kept, in the pose and the
    *  root path, in [0, 2] (1: the networks as trained; 0: SLERP+LERP).
    *  Default: `DeeprepClient.defaultVariation`, the model's own. */
@@ -123,6 +124,8 @@ export class DeeprepClient {
   /** The model's skeleton: joint names, parent indices (-1 for the root) and rest offsets (joints x 3). */
   readonly skeleton: { names: string[]; parents: number[]; offsets: number[] };
   readonly hasModel: boolean;
+  /** Whether method 'residual' (the supervised residual network on SLERP+LERP) is available. */
+  readonly hasResidual: boolean;
   /** The variation a request without one gets: the model manifest's (chosen on training takes). */
   readonly defaultVariation?: number;
   readonly modelError?: string;

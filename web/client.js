@@ -51,6 +51,7 @@ export class DeeprepClient {
     c.skeletonBvh = info.skeletonBvh;
     c.skeleton = info.skeleton; // { names, parents (-1: root), offsets (joints x 3) }
     c.hasModel = info.hasModel;
+    c.hasResidual = info.hasResidual; // method 'residual' (the supervised residual network) is available
     c.defaultVariation = info.defaultVariation;
     c.modelError = info.modelError;
     return c;

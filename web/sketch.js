@@ -386,7 +386,7 @@ async function synthesize() {
       frames: length, post: $('post').checked, footLock: $('footlock').checked, dna: dnaChannels(), method, variation: Number($('variation').value),
     });
     state.result = { positions: r.positions, frames: r.frames, bvh: r.bvh, method, times: r.times };
-    $('method-badge').textContent = method === 'slerp' ? 'SLERP+LERP interpolation baseline' : 'Generative Tweening model';
+    $('method-badge').textContent = { slerp: 'SLERP+LERP interpolation baseline', residual: 'supervised residual network' }[method] || 'Generative Tweening model';
     $('method-badge').classList.toggle('baseline', method === 'slerp');
     const ms = performance.now() - t0;
     $('timing').textContent = `${r.frames} frames in ${ms.toFixed(0)} ms` + (method === 'model' ? ` (generator ${r.times[0].toFixed(0)} ms, RC-FK ${r.times[1].toFixed(0)}, path ${r.times[2].toFixed(0)}, post ${r.times[3].toFixed(0)})` : '');
@@ -566,6 +566,7 @@ async function main() {
     onProgress: (m) => { $('progress').value = m.fraction; $('progress-label').textContent = m.stage; },
   });
   if (!state.client.hasModel) throw new Error(`models unavailable (${state.client.modelError})`);
+  if (!state.client.hasResidual) $('method').querySelector('option[value="residual"]')?.remove();
   state.skeleton = parseSkeleton(state.client.skeletonBvh);
   $('variation').value = String(state.client.defaultVariation);
   $('variation-value').textContent = state.client.defaultVariation.toFixed(2);

@@ -17,6 +17,7 @@ import init, { Inbetweener, IkSolver, BvhClip } from './pkg/deeprep.js';
 let model = null;
 let ik = null;
 let skeletonNames = null;
+let residualManifest = null;
 
 /** An Error with a deeprep error code (see client.js). */
 function coded(code, message) {
@@ -34,12 +35,15 @@ function modelUrls(base) {
   if (base) {
     const at = (f) => `${base.replace(/\/$/, '')}/${f}`;
     return { generator: at('tween_generator.onnx'), path: at('tween_path.onnx'), manifest: at('tween_generator.manifest.json'),
+             residual: at('tween_residual.onnx'), residualManifest: at('tween_residual.manifest.json'),
              ik: at('ik.onnx'), ikManifest: at('ik.manifest.json') };
   }
   return {
     generator: new URL('./models/tween_generator.onnx', import.meta.url).href,
     path: new URL('./models/tween_path.onnx', import.meta.url).href,
     manifest: new URL('./models/tween_generator.manifest.json', import.meta.url).href,
+    residual: new URL('./models/tween_residual.onnx', import.meta.url).href,
+    residualManifest: new URL('./models/tween_residual.manifest.json', import.meta.url).href,
     ik: new URL('./models/ik.onnx', import.meta.url).href,
     ikManifest: new URL('./models/ik.manifest.json', import.meta.url).href,
   };
@@ -91,11 +95,20 @@ async function handleInit(msg) {
     }
     postMessage({ type: 'progress', id: 0, stage: 'loading models', fraction: 1 });
     model = new Inbetweener(g, p, m);
+    // The supervised residual network (issue 19) is optional and loads on
+    // first use; its small manifest says here whether it is there.
+    if (msg.models?.residual) {
+      model.setResidual(new Uint8Array(msg.models.residual), msg.models.residualManifest);
+    } else {
+      residualManifest = await fetchText(urls.residualManifest).catch(() => null);
+    }
     const skel = BvhClip.parse(model.skeletonBvh);
     skeletonNames = skel.jointNames;
     const skeleton = { names: skeletonNames, parents: Array.from(skel.parents), offsets: Array.from(skel.offsets) };
     skel.free();
-    postMessage({ type: 'ready', skeletonBvh: model.skeletonBvh, skeleton, hasModel: true, defaultVariation: model.defaultVariation });
+    postMessage({ type: 'ready', skeletonBvh: model.skeletonBvh, skeleton, hasModel: true,
+                  hasResidual: model.hasResidual || residualManifest !== null,
+                  defaultVariation: model.defaultVariation });
   } catch (e) {
     postMessage({ type: 'ready', skeletonBvh: null, hasModel: false, modelError: String(e.message || e) });
   }
@@ -151,9 +164,9 @@ function handle(msg) {
     postMessage({ type: 'progress', id, stage: msg.method === 'slerp' ? 'interpolating' : 'generator, RC-FK, path, post-processing', fraction: 0.1 });
     const kf = new Uint32Array(msg.keyFrames);
     const kc = new Float32Array(msg.keyChannels);
-    const r = msg.method === 'slerp'
-      ? model.interpolate(kf, kc, msg.frames)
-      : model.synthesize(kf, kc, msg.frames, msg.post, new Float32Array(msg.dna || []), msg.variation, msg.footLock);
+    const r = msg.method === 'slerp' ? model.interpolate(kf, kc, msg.frames)
+      : msg.method === 'residual' ? model.residual(kf, kc, msg.frames, msg.variation)
+        : model.synthesize(kf, kc, msg.frames, msg.post, new Float32Array(msg.dna || []), msg.variation, msg.footLock);
     postMessage({ type: 'progress', id, stage: 'writing BVH', fraction: 0.9 });
     postResult(id, msg.method, r);
   } else if (msg.type === 'synthesizeFromBvh') {
@@ -173,6 +186,10 @@ function handle(msg) {
 onmessage = async (e) => {
   const msg = e.data;
   try {
+    if (msg.type === 'synthesize' && msg.method === 'residual' && model && !model.hasResidual && residualManifest) {
+      postMessage({ type: 'progress', id: msg.id, stage: 'loading the residual network', fraction: 0.05 });
+      model.setResidual(await fetchBytes(urls.residual), residualManifest);
+    }
     if (msg.type === 'init') await handleInit(msg);
     else if (msg.type === 'ik') await handleIk(msg);
     else handle(msg);

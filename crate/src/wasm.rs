@@ -205,6 +205,7 @@ impl BvhClip {
 #[wasm_bindgen]
 pub struct Inbetweener {
     inner: crate::motion::pipeline::TweenModels,
+    residual: Option<crate::motion::residual::ResidualModel>,
 }
 
 /// One synthesized motion.
@@ -325,6 +326,7 @@ impl Inbetweener {
         Ok(Inbetweener {
             inner: crate::motion::pipeline::TweenModels::new(generator, path, manifest)
                 .map_err(js_err)?,
+            residual: None,
         })
     }
 
@@ -537,6 +539,51 @@ impl Inbetweener {
         };
         let out = clip::splice(&b, &ck, &motion).map_err(js_err)?;
         InbetweenResult::new(&out, times, key_error)
+    }
+
+    /// Adds the supervised residual network (the bytes of
+    /// `tween_residual.onnx` and its manifest's text), which
+    /// [`Inbetweener::residual`] runs.
+    #[wasm_bindgen(js_name = setResidual)]
+    pub fn set_residual(&mut self, onnx: &[u8], manifest: &str) -> Result<(), JsError> {
+        let m = crate::motion::residual::ResidualModel::new(onnx, manifest).map_err(js_err)?;
+        crate::motion::clip::check_skeleton(&m.template, &self.inner.template).map_err(js_err)?;
+        self.residual = Some(m);
+        Ok(())
+    }
+
+    /// Whether [`Inbetweener::set_residual`] has loaded the residual network.
+    #[wasm_bindgen(getter, js_name = hasResidual)]
+    pub fn has_residual(&self) -> bool {
+        self.residual.is_some()
+    }
+
+    /// The supervised residual on SLERP+LERP (issue 19, stage 1) between
+    /// whole-pose keys; `variation` (default 1) scales its correction, 0
+    /// being SLERP+LERP. Keys are exact by construction.
+    pub fn residual(
+        &self,
+        key_frames: &[u32],
+        key_channels: &[f32],
+        frames: usize,
+        variation: Option<f32>,
+    ) -> Result<InbetweenResult, JsError> {
+        let r = self
+            .residual
+            .as_ref()
+            .ok_or_else(|| JsError::new("the residual network is not loaded (setResidual)"))?;
+        let keys = keys_from_channels(&self.inner.template, key_frames, key_channels)?;
+        let t0 = js_sys::Date::now();
+        let m = r
+            .synthesize(&keys, frames, variation.unwrap_or(1.0))
+            .map_err(js_err)?;
+        let ms = js_sys::Date::now() - t0;
+        result_from(
+            &self.inner.template,
+            &m,
+            vec![ms, 0.0, 0.0, 0.0],
+            vec![0.0; 4],
+        )
     }
 
     /// The SLERP+LERP baseline on the same inputs (labelled as such in UIs).

@@ -192,8 +192,12 @@ test('sketch page: a hostile BVH import fails cleanly and synthesis still works'
     assert.match(await page.textContent('#status'), new RegExp(`import failed: ${name}: `));
   }
   assert.equal(await page.evaluate(() => window.deeprepState.client.restarts), 0, 'no trap, no worker restart');
+  // and the next synthesis works, with the supervised residual network (issue 19)
+  assert.equal(await page.evaluate(() => window.deeprepState.client.hasResidual), true);
+  await page.selectOption('#method', 'residual');
   await page.evaluate(() => { delete document.body.dataset.synthesized; });
   await page.click('#synth');
   await page.waitForSelector('body[data-synthesized]', { timeout: 120_000 });
+  assert.equal(await page.textContent('#method-badge'), 'supervised residual network');
   assert.deepEqual(errors, []);
 });
