@@ -20,6 +20,10 @@ try:
 except FileNotFoundError:
     hair_row = ""
 ev = json.load(open(os.path.join(ROOT, "docs", "inbetween_eval.json")))
+try:
+    resid = M("tween_residual")
+except FileNotFoundError:
+    resid = None
 t52 = path["training"]["table_5_2_validation"]
 gaps = [30, 60, 120, 300]
 
@@ -51,13 +55,29 @@ if "variation-1@30" in ev and variation != 1.0:
 goal = len(npss_wins) == 4 and 30 in l2p_wins and 60 in l2p_wins
 verdict = ("beats SLERP+LERP on NPSS at every gap and on L2P at 30 and 60 frames" if goal else
            f"**weak**: beats SLERP+LERP on NPSS at gaps: {', '.join(map(str, npss_wins)) or 'none'}; on L2P at gaps: {', '.join(map(str, l2p_wins)) or 'none'} (see below)")
+res_row, res_text = "", ""
+if resid and "residual@30" in ev:
+    fmt = lambda m, k: "/".join(f"{ev[f'{m}@{g}'][k]:.2f}" for g in gaps)  # noqa: E731
+    rw = lambda k: ", ".join(map(str, wins("residual", k))) or "none"  # noqa: E731
+    livelier = ", ".join(f"at {g}" for g in gaps if ev[f"residual@{g}"]["speed_ratio"] > ev[f"slerp@{g}"]["speed_ratio"] + 0.005)
+    res_row = (f"| `tween_residual.onnx` | the same frames, mirrored, {resid['training']['steps']:,} steps × 8 windows of 360 frames "
+               f"with key gaps of 15-300 frames, one CPU thread (`train/tween_resid.py`; issue 19's supervised stage, no adversarial loss) "
+               f"| alone (`--method residual`) on validation: beats SLERP+LERP on L2P at gaps {rw('L2P')}, on NPSS at {rw('NPSS')}, "
+               f"on L2Q at {rw('L2Q')}; joint speed {fmt('residual', 'speed_ratio')} of the truth's at gaps 30/60/120/300 "
+               f"(SLERP+LERP {fmt('slerp', 'speed_ratio')}) |\n")
+    res_text = (f"The supervised residual network (`--method residual`, `tween_residual.onnx`: SLERP+LERP in the first key's "
+                f"frame plus a learned correction, keys exact by construction; issue 19's first stage) beats SLERP+LERP on "
+                f"L2P at gaps {rw('L2P')} and on NPSS at {rw('NPSS')}. Its joint speed is {fmt('residual', 'speed_ratio')} "
+                f"of the truth's at gaps 30/60/120/300 ({livelier or 'at no gap'} above SLERP+LERP's "
+                f"{fmt('slerp', 'speed_ratio')}); issue 19 asks for within 30% of the truth's at 120 and 300, which "
+                f"supervision alone, averaging uncertain motion out, does not give: the adversarial stage is next.\n")
 models = f"""<!-- models -->
 | file | trained on | quality |
 |---|---|---|
 | `rot6d_autoencoder.onnx` | {rot['training']['steps']:,} Adam steps × {rot['training']['batch']} rotations uniform on SO(3), {rot['training']['seconds']} s on one CPU thread (`train/tiny_rotation_mlp.py`) | geodesic error on 10⁵ held-out rotations: mean {rot['accuracy']['mean_deg']:.2f}°, max {rot['accuracy']['max_deg']:.2f}° (thesis Fig. 4.5c at width 128 and 500k steps: 0.49°, 1.98°) |
 | `tween_generator.onnx` | CMU train takes at 60 fps (59,290 frames; `train/data_pipeline.py`), {gen['training']['steps']:,} steps × {gen['training']['batch']} windows of {gen['training']['frames']} frames on the 2-core CPU (`train/train_tween.py`; the runs are listed in train/README.md) | {verdict} |
 | `tween_path.onnx` | the same frames, {path['training']['steps']:,} steps | Table 5.2's columns on validation windows: V1 {t52['V1']:.2f}, V8 {t52['V8']:.2f}, V32 {t52['V32']:.2f}, V128 {t52['V128']:.1f}, Y {t52['Y']:.2f} units (thesis: 0.7, 1.5, 2.8, 5.5, 1.8 cm) |
-| `ik.onnx` | the same frames, {ik['training']['steps']:,} steps × {ik['training']['batch']} poses, random rotations about y (`train/ik_test.py`, representation `{ik['representation']}`) | IK on every validation pose × 3 rotations: joint error mean {ik['training']['validation']['mean']:.2f}, max {ik['training']['validation']['max']:.1f}, std {ik['training']['validation']['std']:.2f} units (thesis Table 5.1, RC-FK: 2.3, 34.9, 1.5 cm); all four representations in [docs/ik.md](docs/ik.md) |
+{res_row}| `ik.onnx` | the same frames, {ik['training']['steps']:,} steps × {ik['training']['batch']} poses, random rotations about y (`train/ik_test.py`, representation `{ik['representation']}`) | IK on every validation pose × 3 rotations: joint error mean {ik['training']['validation']['mean']:.2f}, max {ik['training']['validation']['max']:.1f}, std {ik['training']['validation']['std']:.2f} units (thesis Table 5.1, RC-FK: 2.3, 34.9, 1.5 cm); all four representations in [docs/ik.md](docs/ik.md) |
 | `mesh_encoder.onnx`, `mesh_decoder.onnx` | RobotExpressive.glb (CC0) posed by `deeprep mesh poses`: {mesh['train_poses']:,} meshes (12 clips + random poses), {mesh['steps']:,} steps × 16 (`train/train_mesh.py`) | on {mesh['test_poses']} held-out meshes (clips Wave and Punch, and random poses from another seed): mean error {mesh['mean_error']:.3f} units, {mesh['mean_error_pct_bbox']:.2f}% of the bounding-box diagonal; ablations in [docs/mesh.md](docs/mesh.md) |
 {hair_row}<!-- /models -->"""
 rows = []
@@ -92,7 +112,7 @@ since session 9: at this variation it raised L2P, NPSS and foot skating on
 training takes. Variation 0 is SLERP+LERP exactly. The default variation and
 foot locking's settings were chosen on training takes (`EVAL_SPLIT=train`),
 not on these.
-{ablation}Ground-truth foot skating by the same measure: {ev['ground_truth_foot_skate']:.3f} units/frame; ground-truth joint acceleration {ev['ground_truth_acceleration']:.3f} units/frame².
+{ablation}{res_text}Ground-truth foot skating by the same measure: {ev['ground_truth_foot_skate']:.3f} units/frame; ground-truth joint acceleration {ev['ground_truth_acceleration']:.3f} units/frame².
 NPSS sums over frequencies, so it grows with the window: compare methods
 within a gap. Verdict against the target (beat SLERP+LERP on NPSS at every
 gap and on L2P at 30 and 60): {"met" if goal else "not met"}; the closest cells are at gap 30 (L2P

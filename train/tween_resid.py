@@ -339,7 +339,15 @@ def losses(net, skel, batch, w):
         "root": ((root - gt_root) / SCALE).abs().mean(),
         "vel": ((pos[:, 1:] - pos[:, :-1]) - (gpos[:, 1:] - gpos[:, :-1])).abs().mean() * 10,
     }
-    out["total"] = sum(w[k] * v for k, v in out.items())
+    if w.get("speed"):
+        # per-frame speed of each joint relative to the root, magnitude only:
+        # where the direction of motion is uncertain, L1 on velocity vectors
+        # favours standing still; this term asks for the truth's energy
+        rel, grel = pos - pos[:, :, :1], gpos - gpos[:, :, :1]
+        sp = (rel[:, 1:] - rel[:, :-1]).norm(dim=-1)
+        gsp = (grel[:, 1:] - grel[:, :-1]).norm(dim=-1)
+        out["speed"] = (sp - gsp).abs().mean() * 10
+    out["total"] = sum(w[k] * v for k, v in out.items() if w.get(k))
     return out
 
 
@@ -375,7 +383,7 @@ def train(args):
     for g in opt.param_groups:
         g["lr"] = args.lr
     print(f"parameters: {sum(p.numel() for p in net.parameters()):,}", flush=True)
-    w = {"pos": 1.0, "rot": 0.5, "root": 1.0, "vel": 1.0}
+    w = {"pos": 1.0, "rot": 0.5, "root": 1.0, "vel": 1.0, "speed": args.speed_weight}
     log = open(os.path.join(args.out, "log.jsonl"), "a")
     t0, last = time.time(), time.time()
     acc = {}
@@ -545,6 +553,7 @@ def main():
     ap.add_argument("--lr", type=float, default=5e-4)
     ap.add_argument("--ema", type=float, default=0.999)
     ap.add_argument("--mirror", type=int, default=1)
+    ap.add_argument("--speed-weight", type=float, default=0.0)
     ap.add_argument("--resume", action="store_true")
     ap.add_argument("--save-every", type=int, default=250)
     ap.add_argument("--snapshot-every", type=int, default=1000)
