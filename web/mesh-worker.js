@@ -56,6 +56,8 @@ onmessage = async (e) => {
   try {
     postMessage({ type: 'result', id: msg.id, ...(await handle(msg)) });
   } catch (err) {
-    postMessage({ type: 'error', id: msg.id, message: String(err && err.message ? err.message : err) });
+    // trapped: the wasm instance is unusable; the page's workerClient replaces this worker
+    postMessage({ type: 'error', id: msg.id, trapped: err instanceof WebAssembly.RuntimeError,
+                  message: String(err && err.message ? err.message : err) });
   }
 };

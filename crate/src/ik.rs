@@ -164,10 +164,11 @@ impl IkModel {
         if frames == 0 {
             return Err(Error::Invalid("IK: no frames".into()));
         }
-        if positions.len() != frames * j * 3 {
+        // checked: a frame count from the caller must not wrap (32-bit wasm)
+        if frames.checked_mul(j * 3) != Some(positions.len()) {
             return Err(Error::Shape {
                 what: "IK positions".into(),
-                expected: format!("{frames} frames × {j} joints × 3 = {}", frames * j * 3),
+                expected: format!("{frames} frames × {j} joints × 3 numbers"),
                 found: format!("{}", positions.len()),
             });
         }

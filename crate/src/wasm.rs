@@ -81,13 +81,7 @@ pub fn rotation_circle(repr: &str, axis: &str, steps: usize) -> Result<Vec<f32>,
 /// PCA to 2-D of `points` with `dim` numbers per row.
 #[wasm_bindgen(js_name = pca2d)]
 pub fn pca_2d(points: &[f32], dim: usize) -> Result<Vec<f32>, JsError> {
-    if dim == 0 || points.len() % dim != 0 {
-        return Err(JsError::new(&format!(
-            "pca2d: {} numbers is not a multiple of dim = {dim}",
-            points.len()
-        )));
-    }
-    Ok(curves::pca_2d(points, dim))
+    curves::pca_2d(points, dim).map_err(js_err)
 }
 
 /// An ONNX model run by tract.

@@ -467,7 +467,8 @@ fn an_endless_gltf_clip_is_refused() {
 /// tween_path.onnx in 2,250 panicked at tract-onnx model.rs:187).
 #[test]
 fn mutated_onnx_bytes_are_errors_not_panics() {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../models/onnx/rot6d_autoencoder.onnx");
+    let path =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../models/onnx/rot6d_autoencoder.onnx");
     let good = std::fs::read(path).unwrap();
     let mut rng = deeprep::rng::Rng::new(22);
     // (a panic caught inside tract's import still prints its message here)
@@ -485,4 +486,21 @@ fn mutated_onnx_bytes_are_errors_not_panics() {
     }
     assert_eq!(ok + err, 300);
     assert!(err > 0, "some mutations must fail");
+}
+
+/// Sizes that reached an allocation unchecked from the wasm API: a rotation
+/// circle of 4·10⁹ steps, PCA rows of 10⁵ numbers (a 10¹⁰-entry covariance).
+#[test]
+fn curve_and_pca_sizes_are_limited() {
+    use deeprep::rotation::batch::Repr;
+    use deeprep::rotation::curves::{pca_2d, rotation_circle};
+    use deeprep::rotation::euler::Axis;
+    let (r, peak) = peak_during(|| rotation_circle(Repr::SixD, Axis::X, usize::MAX));
+    assert!(r.is_err() && peak < 1 << 20, "peak {peak}");
+    let pts = vec![0.5f32; 100_000];
+    let (r, peak) = peak_during(|| pca_2d(&pts, 100_000));
+    assert!(r.is_err() && peak < 1 << 20, "peak {peak}");
+    assert!(pca_2d(&pts, 0).is_err() && pca_2d(&pts, 7).is_err());
+    assert_eq!(pca_2d(&pts, 4).unwrap().len(), 50_000);
+    assert_eq!(rotation_circle(Repr::SixD, Axis::Y, 16).unwrap().len(), 96);
 }

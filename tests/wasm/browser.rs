@@ -286,6 +286,9 @@ fn hostile_inputs_reject_and_the_instance_keeps_working() {
     // rotations, ONNX bytes
     assert!(convert_rotations("quat", "6d", &[1.0, 2.0, 3.0]).is_err());
     assert!(convert_rotations("quat", "nope", &[0.0, 0.0, 0.0, 1.0]).is_err());
+    // sizes that reached an allocation unchecked (an abort in wasm: a trap)
+    assert!(deeprep::wasm::rotation_circle("6d", "x", usize::MAX).is_err());
+    assert!(deeprep::wasm::pca_2d(&[0.5; 4096], 4096).is_err());
     assert!(OnnxModel::new(b"not an onnx file").is_err());
     assert!(OnnxModel::new(&TWEEN_PATH[..TWEEN_PATH.len() / 2]).is_err());
     // the in-betweener: bad models, bad keys, impossible lengths

@@ -158,9 +158,7 @@ fn mesh_poses(path: &str, rest: &[&str]) -> Result<(), String> {
         Ok(())
     };
     for (k, a) in rig.animations.iter().enumerate() {
-        let frames = rig
-            .clip_sample_count(k, fps)
-            .map_err(|e| e.to_string())?;
+        let frames = rig.clip_sample_count(k, fps).map_err(|e| e.to_string())?;
         for f in 0..frames {
             let pose = rig
                 .animation_pose(k, f as f32 / fps)

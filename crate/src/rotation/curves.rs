@@ -3,11 +3,21 @@
 
 use super::batch::Repr;
 use super::euler::{axis_rotation, Axis};
-use crate::error::Result;
+use crate::error::{Error, Result};
+
+/// The most samples [`rotation_circle`] draws.
+pub const MAX_STEPS: usize = 1_000_000;
+/// The largest row length [`pca_2d`] takes (its covariance is `dim²`).
+pub const MAX_PCA_DIM: usize = 1024;
 
 /// Encodes `steps` rotations about `axis` (angles `2π i / steps`) in `repr`.
-/// Returns `steps * repr.dim()` numbers.
+/// Returns `steps * repr.dim()` numbers; at most [`MAX_STEPS`] steps.
 pub fn rotation_circle(repr: Repr, axis: Axis, steps: usize) -> Result<Vec<f32>> {
+    if steps > MAX_STEPS {
+        return Err(Error::Invalid(format!(
+            "rotation circle: {steps} steps; at most {MAX_STEPS}"
+        )));
+    }
     let d = repr.dim();
     let mut out = vec![0.0f32; steps * d];
     for i in 0..steps {
@@ -22,10 +32,16 @@ pub fn rotation_circle(repr: Repr, axis: Axis, steps: usize) -> Result<Vec<f32>>
 /// components. Returns `2 * rows` numbers. The components come from power
 /// iteration on the covariance matrix (dim ≤ a few dozen), with signs fixed
 /// so the largest-magnitude loading is positive (a deterministic picture).
-pub fn pca_2d(points: &[f32], dim: usize) -> Vec<f32> {
+pub fn pca_2d(points: &[f32], dim: usize) -> Result<Vec<f32>> {
+    if dim == 0 || dim > MAX_PCA_DIM || !points.len().is_multiple_of(dim) {
+        return Err(Error::Invalid(format!(
+            "pca2d: {} numbers in rows of {dim}; rows must divide them and have 1 to {MAX_PCA_DIM} numbers",
+            points.len()
+        )));
+    }
     let n = points.len().checked_div(dim).unwrap_or(0);
     if n == 0 {
-        return Vec::new();
+        return Ok(Vec::new());
     }
     let mut mean = vec![0.0f64; dim];
     for p in points.chunks(dim) {
@@ -87,5 +103,5 @@ pub fn pca_2d(points: &[f32], dim: usize) -> Vec<f32> {
             out.push(s as f32);
         }
     }
-    out
+    Ok(out)
 }
