@@ -9,13 +9,20 @@ rm -rf pkg
 wasm-pack build crate --mode force --no-opt --target web --out-dir ../pkg --out-name deeprep --release -- "${WASM_CARGO_FLAGS[@]:2}"
 cp web/client.js pkg/client.js
 cp web/three.js pkg/three.js
-sed "s#'./pkg/deeprep.js'#'./deeprep.js'#" web/worker.js > pkg/worker.js
-# Strip debug sections (the name section alone was 14 MB) and optimize for
-# size with binaryen from npm (Debian's wasm-opt is too old for
-# wasm-bindgen's reference types).
-node_modules/.bin/wasm-opt pkg/deeprep_bg.wasm -Os --strip-debug --strip-producers -o pkg/deeprep_bg.wasm \
-  --enable-reference-types --enable-bulk-memory --enable-nontrapping-float-to-int \
-  --enable-sign-ext --enable-multivalue --enable-mutable-globals --enable-simd
+sed "s#'./pkg-core/deeprep.js'#'./core/deeprep.js'#" web/worker.js > pkg/worker.js
+# The worker's package without the GPU code (a smaller download: the in-betweening
+# needs no wgpu), in pkg/core/.
+cargo build -p deeprep --lib --release --no-default-features --features onnx "${WASM_CARGO_FLAGS[@]:2}" --target wasm32-unknown-unknown
+wasm-bindgen target/wasm32-unknown-unknown/release/deeprep.wasm --out-dir pkg/core --target web --remove-name-section --remove-producers-section
+rm -f pkg/core/.gitignore pkg/core/package.json
+# Strip debug sections (the name section alone was 14 MB) with binaryen from
+# npm (Debian's wasm-opt is too old for wasm-bindgen's reference types). No
+# -Os: it shrinks the raw file but grows the gzip'd download (README, size).
+for w in pkg/deeprep_bg.wasm pkg/core/deeprep_bg.wasm; do
+  node_modules/.bin/wasm-opt "$w" -O0 --strip-debug --strip-producers -o "$w" \
+    --enable-reference-types --enable-bulk-memory --enable-nontrapping-float-to-int \
+    --enable-sign-ext --enable-multivalue --enable-mutable-globals --enable-simd
+done
 # The models the client loads by default, found beside worker.js.
 mkdir -p pkg/models
 for f in tween_generator.onnx tween_path.onnx tween_generator.manifest.json tween_residual.onnx tween_residual.manifest.json ik.onnx ik.manifest.json; do
@@ -149,7 +156,7 @@ const fs = require("fs");
 const p = JSON.parse(fs.readFileSync("pkg/package.json", "utf8"));
 p.name = "deeprep";
 p.type = "module";
-p.files = [...new Set([...(p.files || []), "client.js", "client.d.ts", "three.js", "three.d.ts", "worker.js", "models", "README.md", "LICENSE-MIT", "LICENSE-APACHE"])];
+p.files = [...new Set([...(p.files || []), "core", "client.js", "client.d.ts", "three.js", "three.d.ts", "worker.js", "models", "README.md", "LICENSE-MIT", "LICENSE-APACHE"])];
 p.peerDependencies = { three: ">=0.150.0" };
 p.peerDependenciesMeta = { three: { optional: true } };
 p.license = "MIT OR Apache-2.0";

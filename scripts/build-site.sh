@@ -6,11 +6,12 @@
 #   scripts/build-site.sh --opt     rebuilds web/pkg with wasm-opt first
 set -euo pipefail
 cd "$(dirname "$0")/.."
-if [ "${1:-}" = "--opt" ] || [ ! -f web/pkg/deeprep_bg.wasm ]; then bash scripts/build-wasm.sh ${1:-}; fi
+if [ "${1:-}" = "--opt" ] || [ ! -f web/pkg/deeprep_bg.wasm ] || [ ! -f web/pkg-core/deeprep_bg.wasm ]; then bash scripts/build-wasm.sh ${1:-}; fi
 rm -rf web/dist
 mkdir -p web/dist/web web/dist/models/onnx web/dist/models/examples
 cp web/*.html web/*.js web/dist/web/
 cp -r web/pkg web/dist/web/pkg
+cp -r web/pkg-core web/dist/web/pkg-core
 cp models/onnx/*.onnx models/onnx/*.manifest.json web/dist/models/onnx/
 cp models/examples/*.json web/dist/models/examples/
 cat > web/dist/index.html <<'HTML'

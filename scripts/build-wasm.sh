@@ -1,5 +1,8 @@
 #!/usr/bin/env bash
-# Builds the deeprep wasm package into web/pkg (wasm-bindgen, --target web).
+# Builds the deeprep wasm package into web/pkg (wasm-bindgen, --target web),
+# and the same without the GPU code (no wgpu: the viewer and HairNet's WebGPU
+# decoder) into web/pkg-core, which the in-betweening worker loads (a smaller
+# download). Both share one target directory: only the crate recompiles.
 #   scripts/build-wasm.sh          release build, unoptimized .wasm (fast)
 #   scripts/build-wasm.sh --opt    plus wasm-opt -Os (npm binaryen; Debian's is too old)
 set -euo pipefail
@@ -7,14 +10,18 @@ source "$(dirname "$0")/wasm-env.sh"
 cd "$ROOT"
 OPT=0; [ "${1:-}" = "--opt" ] && OPT=1
 t0=$(date +%s)
-cargo build -p deeprep --lib --release "${WASM_CARGO_FLAGS[@]}"
 WASM=target/wasm32-unknown-unknown/release/deeprep.wasm
-rm -rf web/pkg
-wasm-bindgen "$WASM" --out-dir web/pkg --target web --typescript --remove-name-section --remove-producers-section
-if [ "$OPT" = 1 ]; then
-  node_modules/.bin/wasm-opt web/pkg/deeprep_bg.wasm -Os -o web/pkg/deeprep_bg.wasm \
-    --enable-reference-types --enable-bulk-memory --enable-nontrapping-float-to-int \
-    --enable-sign-ext --enable-multivalue --enable-mutable-globals
-fi
-raw=$(stat -c %s web/pkg/deeprep_bg.wasm); gz=$(gzip -9 -c web/pkg/deeprep_bg.wasm | wc -c)
-echo "{\"wasm_bytes\": $raw, \"wasm_gzip_bytes\": $gz, \"optimized\": $OPT, \"build_seconds\": $(( $(date +%s) - t0 ))}"
+for out in pkg-core pkg; do
+  if [ "$out" = pkg ]; then features=(); else features=(--no-default-features --features onnx); fi
+  cargo build -p deeprep --lib --release "${features[@]}" "${WASM_CARGO_FLAGS[@]}"
+  rm -rf "web/$out"
+  wasm-bindgen "$WASM" --out-dir "web/$out" --target web --typescript --remove-name-section --remove-producers-section
+  if [ "$OPT" = 1 ]; then
+    node_modules/.bin/wasm-opt "web/$out/deeprep_bg.wasm" -Os -o "web/$out/deeprep_bg.wasm" \
+      --enable-reference-types --enable-bulk-memory --enable-nontrapping-float-to-int \
+      --enable-sign-ext --enable-multivalue --enable-mutable-globals
+  fi
+done
+# the full package is built last, so target/ holds it for the wasm tests
+size() { echo "\"$1_bytes\": $(stat -c %s "web/$2/deeprep_bg.wasm"), \"$1_gzip_bytes\": $(gzip -9 -c "web/$2/deeprep_bg.wasm" | wc -c)"; }
+echo "{$(size wasm pkg), $(size core_wasm pkg-core), \"optimized\": $OPT, \"build_seconds\": $(( $(date +%s) - t0 ))}"

@@ -12,7 +12,8 @@
 //   -> {type: 'synthesizeFromBvh', id, bytes, keys, method, post, variation, footLock}
 //   <- {type: 'error', id, code, message, trapped}: trapped when the wasm instance
 //      hit a RuntimeError (a deeprep bug); the client then replaces this worker.
-import init, { Inbetweener, IkSolver, BvhClip } from './pkg/deeprep.js';
+// the package without the GPU code (web/pkg-core): a smaller download
+import init, { Inbetweener, IkSolver, BvhClip } from './pkg-core/deeprep.js';
 
 let model = null;
 let ik = null;

@@ -37,7 +37,7 @@ pub mod runtime;
 pub mod skeleton;
 pub mod viewer;
 
-#[cfg(all(target_arch = "wasm32", feature = "onnx", feature = "gpu"))]
+#[cfg(all(target_arch = "wasm32", feature = "onnx"))]
 pub mod wasm;
 
 pub use error::{Error, Result};

@@ -1,0 +1,410 @@
+//! In-betweening (ch. 5): the networks, the residual network, SLERP+LERP, clips.
+
+use super::js_err;
+use wasm_bindgen::prelude::*;
+
+/// The in-betweening models (generator + path predictor) with their
+/// skeleton, ready to synthesize.
+#[wasm_bindgen]
+pub struct Inbetweener {
+    inner: crate::motion::pipeline::TweenModels,
+    residual: Option<crate::motion::residual::ResidualModel>,
+}
+
+/// One synthesized motion.
+#[wasm_bindgen]
+pub struct InbetweenResult {
+    bvh: String,
+    positions: Vec<f32>,
+    frames: usize,
+    frame_time: f64,
+    tracks: crate::skeleton::fk::LocalTracks,
+    times: Vec<f64>,
+    key_error: Vec<f64>,
+}
+
+impl InbetweenResult {
+    fn new(
+        b: &crate::skeleton::Bvh,
+        times: Vec<f64>,
+        key_error: Vec<f64>,
+    ) -> Result<InbetweenResult, JsError> {
+        Ok(InbetweenResult {
+            bvh: b.write(),
+            positions: crate::skeleton::fk::positions(b, 0, b.frame_count()).map_err(js_err)?,
+            frames: b.frame_count(),
+            frame_time: b.frame_time,
+            tracks: crate::skeleton::fk::local_tracks(b),
+            times,
+            key_error,
+        })
+    }
+}
+
+#[wasm_bindgen]
+impl InbetweenResult {
+    /// The motion as BVH text (60 fps, the model's skeleton).
+    #[wasm_bindgen(getter)]
+    pub fn bvh(&self) -> String {
+        self.bvh.clone()
+    }
+    /// Global joint positions, `frames × joints × 3`.
+    #[wasm_bindgen(getter)]
+    pub fn positions(&self) -> Vec<f32> {
+        self.positions.clone()
+    }
+    /// Number of frames.
+    #[wasm_bindgen(getter)]
+    pub fn frames(&self) -> usize {
+        self.frames
+    }
+    /// Seconds per frame.
+    #[wasm_bindgen(getter, js_name = frameTime)]
+    pub fn frame_time(&self) -> f64 {
+        self.frame_time
+    }
+    /// Local translations (offset plus position channels), `frames × joints × 3`.
+    #[wasm_bindgen(getter)]
+    pub fn translations(&self) -> Vec<f32> {
+        self.tracks.translations.clone()
+    }
+    /// Local rotations as quaternions `[x, y, z, w]`, `frames × joints × 4`.
+    #[wasm_bindgen(getter)]
+    pub fn quaternions(&self) -> Vec<f32> {
+        self.tracks.quaternions.clone()
+    }
+    /// Milliseconds per stage: generator, RC-FK, path, post-processing.
+    #[wasm_bindgen(getter)]
+    pub fn times(&self) -> Vec<f64> {
+        self.times.clone()
+    }
+    /// Mean key errors: root and joints before post-processing, then after.
+    #[wasm_bindgen(getter, js_name = keyError)]
+    pub fn key_error(&self) -> Vec<f64> {
+        self.key_error.clone()
+    }
+}
+
+fn keys_from_channels(
+    template: &crate::skeleton::Bvh,
+    key_frames: &[u32],
+    key_channels: &[f32],
+) -> Result<Vec<crate::motion::Keyframe>, JsError> {
+    let c = template.channel_count();
+    if key_channels.len() != key_frames.len() * c {
+        return Err(JsError::new(&format!(
+            "keyChannels: expected {} numbers ({} keys × {c} channels), found {}",
+            key_frames.len() * c,
+            key_frames.len(),
+            key_channels.len()
+        )));
+    }
+    let mut one = template.clone();
+    key_frames
+        .iter()
+        .enumerate()
+        .map(|(i, &f)| {
+            one.motion = key_channels[i * c..(i + 1) * c].to_vec();
+            crate::motion::Keyframe::from_bvh(&one, 0, f as usize).map_err(js_err)
+        })
+        .collect()
+}
+
+fn result_from(
+    template: &crate::skeleton::Bvh,
+    motion: &crate::motion::Motion,
+    times: Vec<f64>,
+    key_error: Vec<f64>,
+) -> Result<InbetweenResult, JsError> {
+    let bvh = motion.to_bvh(template, 1.0 / 60.0).map_err(js_err)?;
+    InbetweenResult::new(&bvh, times, key_error)
+}
+
+#[wasm_bindgen]
+impl Inbetweener {
+    /// Loads the models: the bytes of tween_generator.onnx and
+    /// tween_path.onnx, and the text of tween_generator.manifest.json.
+    #[wasm_bindgen(constructor)]
+    pub fn new(generator: &[u8], path: &[u8], manifest: &str) -> Result<Inbetweener, JsError> {
+        Ok(Inbetweener {
+            inner: crate::motion::pipeline::TweenModels::new(generator, path, manifest)
+                .map_err(js_err)?,
+            residual: None,
+        })
+    }
+
+    /// The variation `synthesize` uses when given none: the manifest's,
+    /// chosen for this model on training takes.
+    #[wasm_bindgen(getter, js_name = defaultVariation)]
+    pub fn default_variation(&self) -> f32 {
+        self.inner.default_variation
+    }
+
+    /// The model's skeleton as BVH text with no frames.
+    #[wasm_bindgen(getter, js_name = skeletonBvh)]
+    pub fn skeleton_bvh(&self) -> String {
+        self.inner.template.write()
+    }
+
+    /// Synthesizes `frames` frames through whole-pose keys given as BVH
+    /// channel rows of the model's skeleton (`keyChannels`: keys × channels)
+    /// at `keyFrames` (sorted, unique, < frames, at most 600 apart).
+    /// `dnaChannels` (optional, may be empty): Motion DNA poses as channel
+    /// rows; their root rotation is removed. Empty: the keys serve as DNA.
+    /// `postProcess`: make the keys exact; false returns the networks' raw
+    /// motion. `footLock` (optional, default false; only with
+    /// `postProcess`): then pin feet in contact with the floor
+    /// (`motion::feet`).
+    /// `variation` (optional, in [0, 2]): how much of the networks'
+    /// departure from SLERP+LERP to keep, in the pose and the root path; 1
+    /// is the networks as trained, 0 SLERP+LERP; absent: the model's
+    /// default (`defaultVariation`).
+    pub fn synthesize(
+        &self,
+        key_frames: &[u32],
+        key_channels: &[f32],
+        frames: usize,
+        post_process: bool,
+        dna_channels: &[f32],
+        variation: Option<f32>,
+        foot_lock: Option<bool>,
+    ) -> Result<InbetweenResult, JsError> {
+        let keys = keys_from_channels(&self.inner.template, key_frames, key_channels)?;
+        let dna = if dna_channels.is_empty() {
+            None
+        } else {
+            let c = self.inner.template.channel_count();
+            let n = dna_channels.len() / c;
+            let frames_idx: Vec<u32> = (0..n as u32).collect();
+            let poses = keys_from_channels(&self.inner.template, &frames_idx, dna_channels)?;
+            Some(poses.iter().map(crate::motion::dna_pose).collect())
+        };
+        let req = crate::motion::pipeline::Request {
+            keys,
+            frames,
+            dna,
+            post_process,
+            foot_lock: (post_process && foot_lock.unwrap_or(false))
+                .then(crate::motion::feet::FootLock::default),
+            variation,
+        };
+        let now = || js_sys::Date::now();
+        let out = self.inner.synthesize(&req, &now).map_err(js_err)?;
+        let t = &out.times;
+        result_from(
+            &self.inner.template,
+            &out.motion,
+            vec![t.generator_ms, t.rcfk_ms, t.path_ms, t.post_ms],
+            vec![
+                out.key_error_raw.root,
+                out.key_error_raw.local,
+                out.key_error.root,
+                out.key_error.local,
+            ],
+        )
+    }
+
+    /// Range-constrained angles (degrees) of one joint in a channel row, then
+    /// its ranges: `[ux, uy, uz, αx, βx, αy, βy, αz, βz]`. Errors for joints
+    /// that RC-FK does not rotate (the root, End Sites).
+    #[wasm_bindgen(js_name = rcAngles)]
+    pub fn rc_angles(&self, channels: &[f32], joint: usize) -> Result<Vec<f64>, JsError> {
+        let k = self.rotating_index(joint)?;
+        let mut one = self.inner.template.clone();
+        one.motion = channels.to_vec();
+        if one.motion.len() != one.channel_count() {
+            return Err(JsError::new(&format!(
+                "expected {} channels, found {}",
+                one.channel_count(),
+                channels.len()
+            )));
+        }
+        let r = self.inner.rc.inverse(&one, 0).map_err(js_err)?;
+        let mut out: Vec<f64> = r.angles[k].iter().map(|a| a.to_degrees()).collect();
+        for rg in &self.inner.rc.ranges[k] {
+            out.extend(rg.iter().map(|a| a.to_degrees()));
+        }
+        Ok(out)
+    }
+
+    /// Sets one joint's range-constrained angles (degrees, clamped to the
+    /// ranges) in a channel row; returns the new row.
+    #[wasm_bindgen(js_name = setRcAngles)]
+    pub fn set_rc_angles(
+        &self,
+        channels: &[f32],
+        joint: usize,
+        angles: &[f64],
+    ) -> Result<Vec<f32>, JsError> {
+        let k = self.rotating_index(joint)?;
+        if angles.len() != 3 || angles.iter().any(|a| !a.is_finite()) {
+            return Err(JsError::new(
+                "setRcAngles: expected 3 finite angles (degrees)",
+            ));
+        }
+        let mut one = self.inner.template.clone();
+        if channels.len() != one.channel_count() {
+            return Err(JsError::new(&format!(
+                "expected {} channels, found {}",
+                one.channel_count(),
+                channels.len()
+            )));
+        }
+        one.motion = channels.to_vec();
+        let u: [f64; 3] = std::array::from_fn(|a| {
+            let [lo, hi] = self.inner.rc.ranges[k][a];
+            angles[a].to_radians().clamp(lo, hi)
+        });
+        let m = self.inner.rc.rotation_for(k, u);
+        let key = crate::motion::Keyframe::from_bvh(&one, 0, 0).map_err(js_err)?;
+        let mut rots = key.rotations.unwrap_or_default();
+        rots[joint] = m;
+        let motion = crate::motion::Motion {
+            root: vec![[
+                key.positions[0] as f64,
+                key.positions[1] as f64,
+                key.positions[2] as f64,
+            ]],
+            rotations: vec![rots],
+        };
+        Ok(motion
+            .to_bvh(&self.inner.template, 1.0 / 60.0)
+            .map_err(js_err)?
+            .motion)
+    }
+
+    fn rotating_index(&self, joint: usize) -> Result<usize, JsError> {
+        self.inner
+            .rc
+            .rotating
+            .iter()
+            .position(|&j| j == joint)
+            .ok_or_else(|| {
+                JsError::new(&format!(
+                    "joint {joint} is not rotated by RC-FK (the root and End Sites are not)"
+                ))
+            })
+    }
+
+    /// In-betweening inside a user's clip (BVH bytes on the model's
+    /// skeleton, any frame rate): whole-pose keys from its frames
+    /// `keyFrames` (the clip's own numbering), the motion between the first
+    /// and last key synthesized at 60 fps (`method` "model" or "slerp"),
+    /// then returned at the clip's frame rate and length, every other frame
+    /// and the keys themselves unchanged.
+    #[wasm_bindgen(js_name = synthesizeFromBvh)]
+    pub fn synthesize_from_bvh(
+        &self,
+        bvh: &[u8],
+        key_frames: &[u32],
+        method: &str,
+        post_process: bool,
+        variation: Option<f32>,
+        foot_lock: Option<bool>,
+    ) -> Result<InbetweenResult, JsError> {
+        use crate::motion::clip;
+        let b = crate::skeleton::Bvh::parse_bytes(bvh).map_err(js_err)?;
+        clip::check_skeleton(&b, &self.inner.template).map_err(js_err)?;
+        let frames: Vec<usize> = key_frames.iter().map(|&f| f as usize).collect();
+        let ck = clip::clip_keys(&b, &frames, true).map_err(js_err)?;
+        let (motion, times, key_error) = match method {
+            "slerp" => (
+                crate::motion::baseline::slerp_lerp(&ck.keys, ck.frames()).map_err(js_err)?,
+                vec![0.0; 4],
+                vec![0.0; 4],
+            ),
+            "model" => {
+                let req = crate::motion::pipeline::Request {
+                    keys: ck.keys.clone(),
+                    frames: ck.frames(),
+                    dna: None,
+                    post_process,
+                    foot_lock: (post_process && foot_lock.unwrap_or(false))
+                        .then(crate::motion::feet::FootLock::default),
+                    variation,
+                };
+                let out = self
+                    .inner
+                    .synthesize(&req, &|| js_sys::Date::now())
+                    .map_err(js_err)?;
+                let (t, e) = (&out.times, (&out.key_error_raw, &out.key_error));
+                (
+                    out.motion.clone(),
+                    vec![t.generator_ms, t.rcfk_ms, t.path_ms, t.post_ms],
+                    vec![e.0.root, e.0.local, e.1.root, e.1.local],
+                )
+            }
+            m => {
+                return Err(JsError::new(&format!(
+                    "unknown method '{m}'; accepted: model, slerp"
+                )))
+            }
+        };
+        let out = clip::splice(&b, &ck, &motion).map_err(js_err)?;
+        InbetweenResult::new(&out, times, key_error)
+    }
+
+    /// Adds the supervised residual network (the bytes of
+    /// `tween_residual.onnx` and its manifest's text), which
+    /// [`Inbetweener::residual`] runs.
+    #[wasm_bindgen(js_name = setResidual)]
+    pub fn set_residual(&mut self, onnx: &[u8], manifest: &str) -> Result<(), JsError> {
+        let m = crate::motion::residual::ResidualModel::new(onnx, manifest).map_err(js_err)?;
+        crate::motion::clip::check_skeleton(&m.template, &self.inner.template).map_err(js_err)?;
+        self.residual = Some(m);
+        Ok(())
+    }
+
+    /// Whether [`Inbetweener::set_residual`] has loaded the residual network.
+    #[wasm_bindgen(getter, js_name = hasResidual)]
+    pub fn has_residual(&self) -> bool {
+        self.residual.is_some()
+    }
+
+    /// The supervised residual on SLERP+LERP (issue 19, stage 1) between
+    /// whole-pose keys; `variation` (default 1) scales its correction, 0
+    /// being SLERP+LERP. Keys are exact by construction.
+    pub fn residual(
+        &self,
+        key_frames: &[u32],
+        key_channels: &[f32],
+        frames: usize,
+        variation: Option<f32>,
+    ) -> Result<InbetweenResult, JsError> {
+        let r = self
+            .residual
+            .as_ref()
+            .ok_or_else(|| JsError::new("the residual network is not loaded (setResidual)"))?;
+        let keys = keys_from_channels(&self.inner.template, key_frames, key_channels)?;
+        let t0 = js_sys::Date::now();
+        let m = r
+            .synthesize(&keys, frames, variation.unwrap_or(1.0))
+            .map_err(js_err)?;
+        let ms = js_sys::Date::now() - t0;
+        result_from(
+            &self.inner.template,
+            &m,
+            vec![ms, 0.0, 0.0, 0.0],
+            vec![0.0; 4],
+        )
+    }
+
+    /// The SLERP+LERP baseline on the same inputs (labelled as such in UIs).
+    pub fn interpolate(
+        &self,
+        key_frames: &[u32],
+        key_channels: &[f32],
+        frames: usize,
+    ) -> Result<InbetweenResult, JsError> {
+        let keys = keys_from_channels(&self.inner.template, key_frames, key_channels)?;
+        let t0 = js_sys::Date::now();
+        let m = crate::motion::baseline::slerp_lerp(&keys, frames).map_err(js_err)?;
+        let ms = js_sys::Date::now() - t0;
+        result_from(
+            &self.inner.template,
+            &m,
+            vec![ms, 0.0, 0.0, 0.0],
+            vec![0.0; 4],
+        )
+    }
+}
