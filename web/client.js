@@ -99,6 +99,7 @@ export class DeeprepClient {
   async request(msg, transfer = [], { signal } = {}) {
     if (signal?.aborted) throw new DeeprepError('E_ABORTED', 'aborted before it started');
     await this.ready;
+    if (signal?.aborted) throw new DeeprepError('E_ABORTED', 'aborted before it started');
     const id = this.nextId++;
     return new Promise((resolve, reject) => {
       const onAbort = () => {

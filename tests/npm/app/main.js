@@ -47,10 +47,30 @@ try {
   const bone = three.bones[1], track = three.clip.tracks.find((x) => x.name === `${bone.name}.quaternion`);
   const want = new Quaternion().fromArray(track.values, 30 * 4);
   if (Math.abs(Math.abs(bone.quaternion.dot(want)) - 1) > 1e-4) throw new Error('the clip did not play');
+  // typed errors, progress and cancellation: models that are not there reject create()
+  // with E_MODEL_LOAD (the 404s of ./no-models/ are expected by run_dist.mjs); an aborted
+  // synthesis settles its promise with E_ABORTED, and the next call still works
+  const missing = await DeeprepClient.create({ modelBase: './no-models/' }).then(() => null, (e) => e.code);
+  if (missing !== 'E_MODEL_LOAD') throw new Error(`create() with missing models: ${missing}`);
+  const stages = new Set();
+  const c2 = await DeeprepClient.create({ onProgress: (p) => stages.add(p.stage) });
+  for (const s of ['compiling wasm', 'downloading models']) if (!stages.has(s)) throw new Error(`no '${s}' progress: ${[...stages]}`);
+  const ac = new AbortController();
+  const long = c2.synthesize({ keyFrames: [0, 599], keyChannels: [...row, ...row], frames: 600, signal: ac.signal });
+  await new Promise((r) => setTimeout(r, 30)); // in flight: the worker is replaced
+  ac.abort();
+  const aborted = await long.then(() => 'resolved', (e) => e.code);
+  if (aborted !== 'E_ABORTED' || c2.restarts !== 1) throw new Error(`aborted synthesis: ${aborted}, ${c2.restarts} restarts`);
+  const early = await c2.synthesize({ keyFrames: [0, 29], keyChannels: [...row, ...row], frames: 30, signal: AbortSignal.abort() })
+    .then(() => 'resolved', (e) => e.code);
+  if (early !== 'E_ABORTED') throw new Error(`an already aborted signal: ${early}`);
+  const after = await c2.synthesize({ keyFrames: [0, 29], keyChannels: [...row, ...row], frames: 30 });
+  if (after.frames !== 30) throw new Error('no synthesis after an abort');
+  c2.terminate();
   let code = null;
   await client.importBvh(new TextEncoder().encode('HIERARCHY\nnot a bvh')).catch((e) => { code = e.code; });
   if (r.frames !== 60 || clip.frameCount !== 2 || code !== 'E_BAD_BVH') throw new Error(`unexpected: ${r.frames} ${clip.frameCount} ${code}`);
-  document.getElementById('out').textContent = `deeprep ${version()} 6d ${Array.from(sixd)}; synthesized ${r.frames} frames; a 120 fps clip in-betweened (${fromClip.frames} frames); three.js: ${compared} tracks as BVHLoader's (max difference ${worst.toExponential(1)}), played; bad BVH -> ${code}`;
+  document.getElementById('out').textContent = `deeprep ${version()} 6d ${Array.from(sixd)}; synthesized ${r.frames} frames; a 120 fps clip in-betweened (${fromClip.frames} frames); three.js: ${compared} tracks as BVHLoader's (max difference ${worst.toExponential(1)}), played; bad BVH -> ${code}; missing models -> ${missing}; abort -> ${aborted}, then ${after.frames} frames`;
   document.body.dataset.done = '1';
 } catch (e) {
   document.body.dataset.error = `${e.code || ''} ${e.message}`;
