@@ -14,6 +14,8 @@ cat > package.json <<'JSON'
 JSON
 npm install --no-audit --no-fund --silent "vite@8.3.4" "three@0.187.0" "$TGZ"
 cp "$ROOT/tests/npm/app/index.html" "$ROOT/tests/npm/app/main.js" .
+mkdir -p public
+bash "$ROOT/tests/npm/app/clip.sh" public
 npx vite build --logLevel warn
 test -f dist/index.html
 ls dist/assets | grep -q '\.wasm$' || { echo "vite build emitted no .wasm asset"; exit 1; }

@@ -14,6 +14,7 @@ JSON
 npm install --no-audit --no-fund --silent "webpack@5" "webpack-cli@5" "three@0.187.0" "$TGZ"
 mkdir -p src dist
 cp "$ROOT/tests/npm/app/main.js" src/main.js
+bash "$ROOT/tests/npm/app/clip.sh" dist
 sed 's#<script type="module" src="/main.js"></script>#<script type="module" src="main.js"></script>#' "$ROOT/tests/npm/app/index.html" > dist/index.html
 cat > webpack.config.js <<'JS'
 export default {

@@ -67,10 +67,21 @@ try {
   const after = await c2.synthesize({ keyFrames: [0, 29], keyChannels: [...row, ...row], frames: 30 });
   if (after.frames !== 30) throw new Error('no synthesis after an abort');
   c2.terminate();
+  // a CMU clip of ../shared (salsa/01, served beside the app by the test scripts when the
+  // data is there): keys at 0, 120 and 240 of its frames, the whole clip back
+  const cfg = await (await fetch('./clip.json')).json();
+  let cmu = 'no CMU clip (../shared absent)';
+  if (cfg.clip) {
+    const text = await (await fetch(cfg.clip)).text();
+    const n = Number(/Frames:\s*(\d+)/.exec(text)[1]);
+    const out = await client.synthesizeFromBvh(text, { keys: [0, 120, 240] });
+    if (out.frames !== n) throw new Error(`synthesizeFromBvh on ${cfg.clip}: ${out.frames} frames, the clip has ${n}`);
+    cmu = `CMU ${cfg.clip} (${n} frames) in-betweened`;
+  }
   let code = null;
   await client.importBvh(new TextEncoder().encode('HIERARCHY\nnot a bvh')).catch((e) => { code = e.code; });
   if (r.frames !== 60 || clip.frameCount !== 2 || code !== 'E_BAD_BVH') throw new Error(`unexpected: ${r.frames} ${clip.frameCount} ${code}`);
-  document.getElementById('out').textContent = `deeprep ${version()} 6d ${Array.from(sixd)}; synthesized ${r.frames} frames; a 120 fps clip in-betweened (${fromClip.frames} frames); three.js: ${compared} tracks as BVHLoader's (max difference ${worst.toExponential(1)}), played; bad BVH -> ${code}; missing models -> ${missing}; abort -> ${aborted}, then ${after.frames} frames`;
+  document.getElementById('out').textContent = `deeprep ${version()} 6d ${Array.from(sixd)}; synthesized ${r.frames} frames; a 120 fps clip in-betweened (${fromClip.frames} frames); ${cmu}; three.js: ${compared} tracks as BVHLoader's (max difference ${worst.toExponential(1)}), played; bad BVH -> ${code}; missing models -> ${missing}; abort -> ${aborted}, then ${after.frames} frames`;
   document.body.dataset.done = '1';
 } catch (e) {
   document.body.dataset.error = `${e.code || ''} ${e.message}`;
