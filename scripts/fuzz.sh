@@ -28,9 +28,10 @@ while [ $# -gt 0 ]; do
     *) targets+=("$1"); shift ;;
   esac
 done
-[ ${#targets[@]} -gt 0 ] || targets=(bvh_roundtrip bvh_motion gltf_rig keys_json hair_photo)
+[ ${#targets[@]} -gt 0 ] || targets=(bvh_roundtrip bvh_motion gltf_rig keys_json hair_photo tween_manifest request)
 
-declare -A SEEDS=([bvh_roundtrip]=bvh [bvh_motion]=bvh [gltf_rig]=gltf [keys_json]=keys [hair_photo]=hair)
+declare -A SEEDS=([bvh_roundtrip]=bvh [bvh_motion]=bvh [gltf_rig]=gltf [keys_json]=keys [hair_photo]=hair
+                  [tween_manifest]=manifest [request]=request)
 declare -A DICTS=([bvh_roundtrip]=fuzz/bvh.dict [bvh_motion]=fuzz/bvh.dict)
 
 export CARGO_TARGET_DIR="${DEEPREP_FUZZ_TARGET_DIR:-$PWD/fuzz/target}"

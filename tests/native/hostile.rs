@@ -504,3 +504,40 @@ fn curve_and_pca_sizes_are_limited() {
     assert_eq!(pca_2d(&pts, 4).unwrap().len(), 50_000);
     assert_eq!(rotation_circle(Repr::SixD, Axis::Y, 16).unwrap().len(), 96);
 }
+
+/// The manifest and request corpora (the fuzz targets' seeds): `bad-*`
+/// fail with an error, `ok-*` parse (and a valid request interpolates).
+#[test]
+fn manifest_and_request_corpora() {
+    for (name, bytes) in corpus("manifest") {
+        let r = deeprep::motion::manifest::parse(std::str::from_utf8(&bytes).unwrap());
+        assert_eq!(r.is_ok(), name.starts_with("ok-"), "{name}: {:?}", r.err());
+    }
+    let m = deeprep::motion::manifest::parse(
+        &std::fs::read_to_string(
+            PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+                .join("../models/onnx/tween_generator.manifest.json"),
+        )
+        .unwrap(),
+    )
+    .unwrap();
+    for (name, bytes) in corpus("request") {
+        let frames = u32::from_le_bytes(bytes[0..4].try_into().unwrap()) as usize;
+        let variation = f32::from_le_bytes(bytes[4..8].try_into().unwrap());
+        let file = deeprep::motion::keys::from_json(
+            std::str::from_utf8(&bytes[8..]).unwrap(),
+            &m.template,
+        )
+        .unwrap();
+        let req = deeprep::motion::Request {
+            keys: file.keys,
+            frames,
+            dna: None,
+            post_process: true,
+            foot_lock: None,
+            variation: Some(variation),
+        };
+        let r = req.validate(m.template.joints.len(), 1.0);
+        assert_eq!(r.is_ok(), name.starts_with("ok-"), "{name}: {r:?}");
+    }
+}

@@ -10,6 +10,7 @@
 //! - [`clip`]: keys from frames of a user's clip, the result spliced back (any frame rate).
 //! - [`post`]: the correction that makes keyframes exact (Sec. 5.2.6).
 //! - [`keys`]: the keys file (JSON) of the CLI and the examples.
+//! - [`manifest`]: the networks' manifest, checked without the runtime.
 //! - [`feet`]: foot locking (contacts pinned by two-bone IK; not in the thesis).
 
 pub mod baseline;
@@ -18,6 +19,7 @@ pub mod dense;
 pub mod dna;
 pub mod feet;
 pub mod keys;
+pub mod manifest;
 #[cfg(feature = "onnx")]
 pub mod pipeline;
 pub mod post;
@@ -29,6 +31,7 @@ use crate::error::{Error, Result};
 use crate::rotation::euler::{matrix_to_euler, Axis, EulerOrder, Frame};
 use crate::rotation::{mul_vec, Mat3};
 use crate::skeleton::{fk, Bvh};
+use feet::FootLock;
 
 /// The longest motion deeprep synthesizes or interpolates: 36,000 frames
 /// (10 minutes at 60 fps). Longer requests are errors, so memory and time
@@ -43,6 +46,74 @@ pub fn check_frames(frames: usize) -> Result<()> {
         )));
     }
     Ok(())
+}
+
+/// Longest allowed gap between consecutive keys for the networks, frames
+/// (10 s at 60 fps, the thesis' 600-frame sampling bound, inside its
+/// 636-frame reach).
+pub const MAX_GAP: usize = 600;
+
+/// A synthesis request.
+#[derive(Clone, Debug)]
+pub struct Request {
+    /// Keyframes, sorted by frame.
+    pub keys: Vec<Keyframe>,
+    /// Output length in frames (60 fps).
+    pub frames: usize,
+    /// Motion DNA: representative local poses without root rotation
+    /// (`joints × 3` each, BVH units). `None`: the whole-pose keys serve.
+    pub dna: Option<Vec<Vec<f32>>>,
+    /// Apply the post-processing that makes keys exact.
+    pub post_process: bool,
+    /// After that post-processing, pin feet in contact ([`feet`]);
+    /// `None`: leave the feet as synthesized. Ignored without post-processing.
+    pub foot_lock: Option<FootLock>,
+    /// How much of the networks' departure from plain interpolation to
+    /// keep, in [0, 2]: each joint's local rotation is slerped from
+    /// SLERP+LERP between the whole-pose keys (0) to the generator's (1),
+    /// and the root path's deviation from the keys' root positions
+    /// interpolated linearly is scaled by it. 1 is the networks as trained;
+    /// 0 is SLERP+LERP; above 1 extrapolates. `None` takes the model's
+    /// default (`TweenModels::default_variation`).
+    pub variation: Option<f32>,
+}
+
+impl Request {
+    /// Checks the request for a skeleton of `joints` joints and returns the
+    /// variation it runs at (`default` when it names none): the length, the
+    /// keys, the variation's range and the gaps between keys.
+    pub fn validate(&self, joints: usize, default: f32) -> Result<f32> {
+        if self.frames == 0 {
+            return Err(Error::Invalid("the requested length is 0 frames".into()));
+        }
+        validate_keys(&self.keys, self.frames, joints)?;
+        let variation = self.variation.unwrap_or(default);
+        if !(0.0..=2.0).contains(&variation) {
+            return Err(Error::Invalid(format!(
+                "variation {variation} is outside [0, 2] (1: the networks as trained, 0: plain interpolation)"
+            )));
+        }
+        for w in self.keys.windows(2) {
+            if w[1].frame - w[0].frame > MAX_GAP {
+                return Err(Error::Invalid(format!(
+                    "keys at frames {} and {} are {} frames apart; the model reaches {MAX_GAP} frames (10 s at 60 fps)",
+                    w[0].frame,
+                    w[1].frame,
+                    w[1].frame - w[0].frame
+                )));
+            }
+        }
+        if let Some(d) = &self.dna {
+            if d.iter().any(|p| p.len() != 3 * joints) {
+                return Err(Error::Shape {
+                    what: "Motion DNA poses".into(),
+                    expected: format!("{} numbers each ({joints} joints × 3)", 3 * joints),
+                    found: "other lengths".into(),
+                });
+            }
+        }
+        Ok(variation)
+    }
 }
 
 /// A keyframe.

@@ -3,42 +3,16 @@
 //! integrated root path → post-processing → motion.
 
 use super::dense::{base_channels, dense_channels, dense_input, Base, Norm};
-use super::feet::{lock_feet, FootLock, FootLockStats};
-use super::{post, validate_keys, Keyframe, Motion};
+use super::feet::{lock_feet, FootLockStats};
+use super::{post, Keyframe, Motion};
 use crate::error::{Error, Result};
-use crate::rcfk::{RcSkeleton, TableRow};
+use crate::rcfk::RcSkeleton;
 use crate::rotation::quat::{matrix_to_quat, quat_to_matrix_unit, slerp};
 use crate::rotation::Mat3;
 use crate::runtime::{Model, TensorF32};
 use crate::skeleton::Bvh;
-use serde::Deserialize;
 
-/// Longest allowed gap between consecutive keys, frames (10 s at 60 fps,
-/// the thesis' 600-frame sampling bound, inside its 636-frame reach).
-pub const MAX_GAP: usize = 600;
-
-#[derive(Deserialize)]
-struct Manifest {
-    skeleton_bvh: String,
-    range_table: Vec<TableRow>,
-    normalization: NormJson,
-    #[serde(default)]
-    base: Base,
-    /// The default variation chosen for this model (absent: 1).
-    #[serde(default = "default_variation")]
-    variation: f32,
-}
-
-fn default_variation() -> f32 {
-    1.0
-}
-
-#[derive(Deserialize)]
-struct NormJson {
-    scale: f32,
-    dt_norm: f32,
-    dt_clip: f32,
-}
+pub use super::{Request, MAX_GAP};
 
 /// The two networks plus what they need: skeleton, ranges, normalization.
 pub struct TweenModels {
@@ -56,31 +30,6 @@ pub struct TweenModels {
     /// `variation`, chosen for this model on training takes (1 when the
     /// manifest has none).
     pub default_variation: f32,
-}
-
-/// A synthesis request.
-#[derive(Clone, Debug)]
-pub struct Request {
-    /// Keyframes, sorted by frame.
-    pub keys: Vec<Keyframe>,
-    /// Output length in frames (60 fps).
-    pub frames: usize,
-    /// Motion DNA: representative local poses without root rotation
-    /// (`joints × 3` each, BVH units). `None`: the whole-pose keys serve.
-    pub dna: Option<Vec<Vec<f32>>>,
-    /// Apply the post-processing that makes keys exact.
-    pub post_process: bool,
-    /// After that post-processing, pin feet in contact ([`super::feet`]);
-    /// `None`: leave the feet as synthesized. Ignored without post-processing.
-    pub foot_lock: Option<FootLock>,
-    /// How much of the networks' departure from plain interpolation to
-    /// keep, in [0, 2]: each joint's local rotation is slerped from
-    /// SLERP+LERP between the whole-pose keys (0) to the generator's (1),
-    /// and the root path's deviation from the keys' root positions
-    /// interpolated linearly is scaled by it. 1 is the networks as trained;
-    /// 0 is SLERP+LERP; above 1 extrapolates. `None` takes the model's
-    /// default ([`TweenModels::default_variation`]).
-    pub variation: Option<f32>,
 }
 
 /// The whole-pose keys that carry rotations, with them: what the base and
@@ -132,20 +81,13 @@ impl TweenModels {
     /// Loads the generator and path predictor from ONNX bytes and the
     /// generator's manifest JSON.
     pub fn new(generator_onnx: &[u8], path_onnx: &[u8], manifest_json: &str) -> Result<Self> {
-        let m: Manifest = serde_json::from_str(manifest_json)
-            .map_err(|e| Error::Invalid(format!("tween manifest: {e}")))?;
-        let template = Bvh::parse(&m.skeleton_bvh)?;
-        let rc = RcSkeleton::new(&template, &m.range_table)?;
+        let m = super::manifest::parse(manifest_json)?;
         Ok(TweenModels {
             generator: Model::from_onnx_bytes(generator_onnx)?,
             path: Model::from_onnx_bytes(path_onnx)?,
-            rc,
-            template,
-            norm: Norm {
-                scale: m.normalization.scale,
-                dt_norm: m.normalization.dt_norm,
-                dt_clip: m.normalization.dt_clip,
-            },
+            rc: m.rc,
+            template: m.template,
+            norm: m.norm,
             base: m.base,
             default_variation: m.variation,
         })
@@ -177,26 +119,7 @@ impl TweenModels {
     pub fn synthesize(&self, req: &Request, now_ms: &dyn Fn() -> f64) -> Result<Output> {
         let j = self.joints();
         let p = 3 * j;
-        if req.frames == 0 {
-            return Err(Error::Invalid("the requested length is 0 frames".into()));
-        }
-        validate_keys(&req.keys, req.frames, j)?;
-        let variation = req.variation.unwrap_or(self.default_variation);
-        if !(0.0..=2.0).contains(&variation) {
-            return Err(Error::Invalid(format!(
-                "variation {variation} is outside [0, 2] (1: the networks as trained, 0: plain interpolation)"
-            )));
-        }
-        for w in req.keys.windows(2) {
-            if w[1].frame - w[0].frame > MAX_GAP {
-                return Err(Error::Invalid(format!(
-                    "keys at frames {} and {} are {} frames apart; the model reaches {MAX_GAP} frames (10 s at 60 fps)",
-                    w[0].frame,
-                    w[1].frame,
-                    w[1].frame - w[0].frame
-                )));
-            }
-        }
+        let variation = req.validate(j, self.default_variation)?;
         let n = req.frames.div_ceil(64).max(1) * 64;
         let t0 = now_ms();
         let dense = dense_input(&req.keys, n, &self.norm);
