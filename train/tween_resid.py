@@ -530,9 +530,35 @@ def export(args):
     print(f"exported {path} (step {s['step']}), parity {parity:.2e}")
 
 
+def pick(args):
+    """Chooses among snapshots by their `eval --split train --json` results
+    (never validation): among those that beat SLERP+LERP on MPJPE and NPSS at
+    every gap, the one whose joint speed at gaps 120 and 300 is closest to
+    the truth's (issue 19's realism target); if none beats it everywhere, the
+    lowest mean MPJPE ratio. Prints the scores and writes them to --json."""
+    rows = []
+    for path in args.results:
+        r = json.load(open(path))
+        g = r["gaps"]
+        ratio = lambda k: [g[x]["model"][k] / g[x]["slerp"][k] for x in g]  # noqa: E731
+        wins = all(v < 1 for v in ratio("mpjpe") + ratio("npss"))
+        speed = [abs(1 - g[x]["model"]["speed_ratio"]) for x in ("120", "300") if x in g]
+        rows.append({"ckpt": r["ckpt"], "beats_slerp_everywhere": wins, "mpjpe_ratio": ratio("mpjpe"),
+                     "npss_ratio": ratio("npss"), "speed_ratio": [g[x]["model"]["speed_ratio"] for x in g],
+                     "speed_gap_120_300": float(np.mean(speed)), "mean_mpjpe_ratio": float(np.mean(ratio("mpjpe")))})
+    ok = [r for r in rows if r["beats_slerp_everywhere"]]
+    best = min(ok, key=lambda r: r["speed_gap_120_300"]) if ok else min(rows, key=lambda r: r["mean_mpjpe_ratio"])
+    for r in rows:
+        print(("* " if r is best else "  ") + json.dumps(r))
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump({"rule": pick.__doc__.split("Prints")[0].strip(), "candidates": rows, "picked": best["ckpt"]}, fh, indent=1)
+    return best
+
+
 def portable(args):
     """The running checkpoint's weights and moving average in float16."""
-    s = torch.load(os.path.join(args.out, "ckpt.pt"))
+    s = torch.load(args.ckpt or os.path.join(args.out, "ckpt.pt"))
     half = {k: {n: v.half() for n, v in s[k].items()} for k in ("net", "ema")}
     os.makedirs(os.path.dirname(PORTABLE), exist_ok=True)
     torch.save({**half, "step": s["step"], "width": s["width"], "K": s["K"]}, PORTABLE)
@@ -541,7 +567,8 @@ def portable(args):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("cmd", choices=["prepare", "train", "eval", "portable", "export"])
+    ap.add_argument("cmd", choices=["prepare", "train", "eval", "portable", "export", "pick"])
+    ap.add_argument("results", nargs="*", help="pick: eval --json files of the candidates")
     ap.add_argument("--data", default=os.path.join(CACHE, "resid60.npz"))
     ap.add_argument("--out", default=OUT)
     ap.add_argument("--minutes", type=float, default=60)
@@ -570,6 +597,8 @@ def main():
         portable(args)
     elif args.cmd == "export":
         export(args)
+    elif args.cmd == "pick":
+        pick(args)
     else:
         evaluate(args)
 
