@@ -501,7 +501,11 @@ def export(args):
     gen_manifest = json.load(open(os.path.join(ONNX_DIR, "tween_generator.manifest.json")))
     cin = 3 + 6 * skel.K + 4
     path = os.path.join(ONNX_DIR, "tween_residual.onnx")
-    x = torch.randn(1, cin, 40, generator=torch.Generator().manual_seed(0))
+    # the fixture's input: a real window's features (first training segment,
+    # 64 frames, keys at 0, 30 and 63), so outputs are in their usual range
+    clips = Clips(d, "train")
+    f = features(clips.root[:64], clips.quat[:64], [0, 30, 63])
+    x = net_input(f[0].unsqueeze(0), f[1].unsqueeze(0), f[4].unsqueeze(0))
     torch.onnx.export(net, (x,), path, input_names=["x"], output_names=["residual"], opset_version=17,
                       dynamic_axes={"x": {2: "frames"}, "residual": {2: "frames"}}, dynamo=False)
     with torch.no_grad():
