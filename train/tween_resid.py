@@ -41,6 +41,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 from data_pipeline import DATA, TRUE_FPS, VALIDATION, floor_segments, runs, take_of, MIN_SEGMENT  # noqa: E402
 from eval_tween import read_bvh, local_fk, fk_from_local, mat_to_quat, npss  # noqa: E402
+from deeprep_train.rotation import matrix_to_6d, quat_to_matrix, sixd_to_matrix  # noqa: E402
 
 ROOT = os.path.dirname(HERE)
 CACHE = os.path.join(ROOT, "train", "cache")
@@ -138,13 +139,8 @@ class Clips:
 # ---------------------------------------------------------------- rotations
 
 def quat_to_mat(q):
-    """[..., 4] unit quaternions [w, x, y, z] -> [..., 3, 3]."""
-    w, x, y, z = q.unbind(-1)
-    return torch.stack([
-        torch.stack([1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)], -1),
-        torch.stack([2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)], -1),
-        torch.stack([2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)], -1),
-    ], -2)
+    """[..., 4] unit quaternions [w, x, y, z] (this cache's order) -> [..., 3, 3]."""
+    return quat_to_matrix(q[..., [1, 2, 3, 0]])
 
 
 def slerp(qa, qb, s):
@@ -162,16 +158,8 @@ def slerp(qa, qb, s):
     return q / q.norm(dim=-1, keepdim=True)
 
 
-def sixd(m):
-    """[..., 3, 3] -> [..., 6]: the first two columns."""
-    return torch.cat([m[..., :, 0], m[..., :, 1]], -1)
-
-
-def from_sixd(r):
-    a1, a2 = r[..., 0:3], r[..., 3:6]
-    b1 = F.normalize(a1, dim=-1, eps=1e-6)
-    b2 = F.normalize(a2 - (b1 * a2).sum(-1, keepdim=True) * b1, dim=-1, eps=1e-6)
-    return torch.stack([b1, b2, torch.cross(b1, b2, dim=-1)], -1)
+sixd = matrix_to_6d          # [..., 3, 3] -> [..., 6], the first two columns
+from_sixd = sixd_to_matrix   # Gram-Schmidt back (eq. C.2-C.3)
 
 
 def rot_y(theta):
