@@ -122,10 +122,7 @@ impl IkModel {
 
     /// Loads `ik.onnx` and `ik.manifest.json` from a folder.
     pub fn load_dir(dir: &std::path::Path) -> Result<Self> {
-        let read = |n: &str| {
-            std::fs::read(dir.join(n))
-                .map_err(|e| Error::Invalid(format!("{}: {e}", dir.join(n).display())))
-        };
+        let read = |n: &str| crate::runtime::read_file(dir, n);
         let manifest = String::from_utf8(read("ik.manifest.json")?)
             .map_err(|e| Error::Invalid(format!("ik.manifest.json: {e}")))?;
         Self::new(&read("ik.onnx")?, &manifest)

@@ -40,6 +40,13 @@ fn guard_tract<T>(f: impl FnOnce() -> Result<T>) -> Result<T> {
     })
 }
 
+/// Reads `dir/name` (a model or manifest file), naming the path in the
+/// error; the models' `load_dir` functions share it.
+pub fn read_file(dir: &std::path::Path, name: &str) -> Result<Vec<u8>> {
+    std::fs::read(dir.join(name))
+        .map_err(|e| Error::Invalid(format!("{}: {e}", dir.join(name).display())))
+}
+
 /// A dense f32 tensor: data plus shape.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TensorF32 {

@@ -235,10 +235,7 @@ impl HairModel {
 
     /// Loads the bundled files from a folder.
     pub fn load_dir(dir: &std::path::Path) -> Result<Self> {
-        let read = |n: &str| {
-            std::fs::read(dir.join(n))
-                .map_err(|e| Error::Invalid(format!("{}: {e}", dir.join(n).display())))
-        };
+        let read = |n: &str| crate::runtime::read_file(dir, n);
         let m = String::from_utf8(read("hair_features.manifest.json")?)
             .map_err(|e| Error::Invalid(e.to_string()))?;
         Self::new(

@@ -80,10 +80,7 @@ impl MeshCodec {
 
     /// Loads `mesh_encoder.onnx`, `mesh_decoder.onnx` and the manifest from a folder.
     pub fn load_dir(dir: &std::path::Path) -> Result<Self> {
-        let read = |n: &str| {
-            std::fs::read(dir.join(n))
-                .map_err(|e| Error::Invalid(format!("{}: {e}", dir.join(n).display())))
-        };
+        let read = |n: &str| crate::runtime::read_file(dir, n);
         let m = String::from_utf8(read("mesh_autoencoder.manifest.json")?)
             .map_err(|e| Error::Invalid(e.to_string()))?;
         Self::new(&read("mesh_encoder.onnx")?, &read("mesh_decoder.onnx")?, &m)

@@ -96,10 +96,7 @@ impl TweenModels {
     /// Loads `tween_generator.onnx`, `tween_path.onnx` and the manifest from
     /// a folder (native; in a browser, fetch the bytes and use [`Self::new`]).
     pub fn load_dir(dir: &std::path::Path) -> Result<Self> {
-        let read = |n: &str| {
-            std::fs::read(dir.join(n))
-                .map_err(|e| Error::Invalid(format!("{}: {e}", dir.join(n).display())))
-        };
+        let read = |n: &str| crate::runtime::read_file(dir, n);
         let manifest = String::from_utf8(read("tween_generator.manifest.json")?)
             .map_err(|e| Error::Invalid(e.to_string()))?;
         Self::new(

@@ -130,10 +130,7 @@ impl ResidualModel {
 
     /// Loads `tween_residual.onnx` and its manifest from a folder.
     pub fn load_dir(dir: &std::path::Path) -> Result<Self> {
-        let read = |n: &str| {
-            std::fs::read(dir.join(n))
-                .map_err(|e| Error::Invalid(format!("{}: {e}", dir.join(n).display())))
-        };
+        let read = |n: &str| crate::runtime::read_file(dir, n);
         let manifest = String::from_utf8(read("tween_residual.manifest.json")?)
             .map_err(|e| Error::Invalid(e.to_string()))?;
         Self::new(&read("tween_residual.onnx")?, &manifest)
