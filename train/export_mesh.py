@@ -182,3 +182,7 @@ def main():
 
 if __name__ == "__main__":
     main()
+    # the shipped files keep their weights as float16 (issue 21)
+    from half_weights import convert
+    for name in ("mesh_encoder", "mesh_decoder"):
+        convert(name)

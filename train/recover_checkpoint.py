@@ -22,12 +22,11 @@ import sys
 import numpy as np
 import onnx
 import torch
-from onnx import numpy_helper
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from deeprep_train.rcfk import RCFK  # noqa: E402
 from deeprep_train.tween import Generator, PathPredictor  # noqa: E402
-from export_util import ONNX_DIR  # noqa: E402
+from export_util import ONNX_DIR, initializer_arrays  # noqa: E402
 from train_tween import OUT, Data  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -46,7 +45,7 @@ def scope_path(node_name):
 
 def load_onnx_weights(model, m, path):
     """Copies the initializers of the ONNX model m (read from path) into model."""
-    init = {i.name: torch.from_numpy(numpy_helper.to_array(i).copy()) for i in m.graph.initializer}
+    init = {k: torch.from_numpy(v.copy()) for k, v in initializer_arrays(m).items()}
     sd = model.state_dict()
     got = {k: init[k] for k in sd if k in init}
     for n in m.graph.node:
@@ -80,7 +79,7 @@ def main():
     pman = json.load(open(os.path.join(ONNX_DIR, "tween_path.manifest.json")))
     gpath, ppath = (os.path.join(ONNX_DIR, f"tween_{x}.onnx") for x in ("generator", "path"))
     gm = onnx.load(gpath)
-    skips = len({i.name.split(".")[1] for i in gm.graph.initializer if i.name.startswith("skip.")})
+    skips = len({k.split(".")[1] for k in initializer_arrays(gm) if k.startswith("skip.")})
     gen = Generator(P, fk.output_dim, skips=skips)
     load_onnx_weights(gen, gm, gpath)
     eg = check(gen, "tween_generator")

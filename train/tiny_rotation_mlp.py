@@ -120,3 +120,7 @@ def main() -> None:
 
 if __name__ == "__main__":
     main()
+    # the shipped files keep their weights as float16 (issue 21)
+    from half_weights import convert
+    for name in ("rot6d_autoencoder",):
+        convert(name)

@@ -4,6 +4,16 @@
 //! frame count) are kept typed but unoptimized; each request fixes the
 //! symbols and optimizes a plan for that shape (a few ms), which runs as fast
 //! as a model exported with a fixed shape. Plans are cached per shape.
+//!
+//! Optimizing a plan costs more than running it (the in-betweening
+//! generator: 40 ms to optimize, 3 ms to run 64 frames natively; in a
+//! browser worker, a 60-frame synthesis took 32 ms warm and 300 ms on its
+//! first request), so a page's first request of each length would wait for
+//! it. [`Model::prepare_any_shape`] builds once a plan optimized with the
+//! symbols left free, which then serves every shape: natively it runs
+//! 1.3-1.45x the time of a shape's own plan (the generator at 64 to 640
+//! frames, `examples/plan_probe.rs`), in the browser worker a 60-frame
+//! synthesis took 35 ms against 32 ms.
 
 use crate::error::{Error, Result};
 use std::collections::HashMap;
@@ -16,6 +26,8 @@ type Plan = TypedSimplePlan;
 pub struct Model {
     typed: TypedModel,
     plans: Mutex<HashMap<Vec<Vec<usize>>, std::sync::Arc<Plan>>>,
+    /// The plan for any shape ([`Model::prepare_any_shape`]).
+    any_shape: Mutex<Option<std::sync::Arc<Plan>>>,
 }
 
 fn model_err(e: impl std::fmt::Display) -> Error {
@@ -72,19 +84,11 @@ impl TensorF32 {
 }
 
 impl Model {
-    /// Parses an ONNX model from its bytes.
+    /// Parses an ONNX model from its bytes. Weights stored as float16 behind
+    /// a `Cast` to float (how the bundled models ship, see
+    /// [`read_proto`]) are widened to float32 first.
     pub fn from_onnx_bytes(bytes: &[u8]) -> Result<Self> {
-        let typed = guard_tract(|| {
-            let mut r = bytes;
-            let inference = tract_onnx::onnx()
-                .model_for_read(&mut r)
-                .map_err(model_err)?;
-            inference.into_typed().map_err(model_err)
-        })?;
-        Ok(Model {
-            typed,
-            plans: Mutex::new(HashMap::new()),
-        })
+        Self::from_proto_with(bytes, |_| Ok(0)).map(|(m, _)| m)
     }
 
     /// Parses an ONNX model and multiplies out every `MatMul` of two 2-D
@@ -96,25 +100,58 @@ impl Model {
     /// trades that time for the product's memory. Returns the model and the
     /// number of products folded.
     pub fn from_onnx_bytes_folding_factors(bytes: &[u8]) -> Result<(Self, usize)> {
+        Self::from_proto_with(bytes, fold_constant_matmuls)
+    }
+
+    /// [`read_proto`], then `edit` on the graph, then tract's import.
+    fn from_proto_with(
+        bytes: &[u8],
+        edit: impl FnOnce(&mut tract_onnx::pb::GraphProto) -> Result<usize>,
+    ) -> Result<(Self, usize)> {
         use tract_onnx::tract_core::framework::Framework;
-        let (typed, folded) = guard_tract(|| {
-            let onnx = tract_onnx::onnx();
-            let mut r = bytes;
-            let mut proto = onnx.proto_model_for_read(&mut r).map_err(model_err)?;
-            let folded = match proto.graph.as_mut() {
-                Some(g) => fold_constant_matmuls(g)?,
+        let (typed, n) = guard_tract(|| {
+            let mut proto = read_proto(bytes)?;
+            let n = match proto.graph.as_mut() {
+                Some(g) => edit(g)?,
                 None => 0,
             };
-            let inference = onnx.model_for_proto_model(&proto).map_err(model_err)?;
-            Ok((inference.into_typed().map_err(model_err)?, folded))
+            let inference = tract_onnx::onnx()
+                .model_for_proto_model(&proto)
+                .map_err(model_err)?;
+            Ok((inference.into_typed().map_err(model_err)?, n))
         })?;
         Ok((
             Model {
                 typed,
                 plans: Mutex::new(HashMap::new()),
+                any_shape: Mutex::new(None),
             },
-            folded,
+            n,
         ))
+    }
+
+    /// Optimizes, once, a plan with the model's symbolic dimensions left
+    /// free, which then runs every request, so that a new shape does not
+    /// wait for a plan of its own (see the module's docs). For long-lived
+    /// users (a page's worker); a process that runs one request, or one
+    /// long shape many times, does better without it.
+    /// Does nothing for a model without symbols. Returns whether a plan
+    /// was built by this call.
+    pub fn prepare_any_shape(&self) -> Result<bool> {
+        let mut slot = self.any_shape.lock().map_err(model_err)?;
+        if slot.is_some() || self.typed.symbols.all_symbols().is_empty() {
+            return Ok(false);
+        }
+        let plan = guard_tract(|| {
+            self.typed
+                .clone()
+                .into_optimized()
+                .map_err(model_err)?
+                .into_runnable()
+                .map_err(model_err)
+        })?;
+        *slot = Some(plan);
+        Ok(true)
     }
 
     /// Number of inputs.
@@ -157,16 +194,14 @@ impl Model {
             .collect()
     }
 
-    fn plan_for(&self, shapes: &[Vec<usize>]) -> Result<std::sync::Arc<Plan>> {
-        if let Some(p) = self.plans.lock().map_err(model_err)?.get(shapes) {
-            return Ok(p.clone());
-        }
-        let mut m = self.typed.clone();
+    /// Checks the request's shapes against the inputs' (ranks, fixed
+    /// sizes) and returns the values they give the symbols.
+    fn check_shapes(&self, shapes: &[Vec<usize>]) -> Result<HashMap<Symbol, TDim>> {
         // Fix every symbolic input dimension from the request's shapes.
         let mut values: HashMap<Symbol, TDim> = HashMap::new();
         for (ix, shape) in shapes.iter().enumerate() {
-            let outlet = m.inputs[ix];
-            let fact = m.outlet_fact(outlet).map_err(model_err)?.clone();
+            let outlet = self.typed.inputs[ix];
+            let fact = self.typed.outlet_fact(outlet).map_err(model_err)?.clone();
             if fact.rank() != shape.len() {
                 return Err(Error::Shape {
                     what: format!("model input {ix}"),
@@ -192,6 +227,19 @@ impl Model {
                 }
             }
         }
+        Ok(values)
+    }
+
+    fn plan_for(&self, shapes: &[Vec<usize>]) -> Result<std::sync::Arc<Plan>> {
+        if let Some(p) = self.plans.lock().map_err(model_err)?.get(shapes) {
+            return Ok(p.clone());
+        }
+        if let Some(plan) = self.any_shape.lock().map_err(model_err)?.as_ref() {
+            self.check_shapes(shapes)?;
+            return Ok(plan.clone());
+        }
+        let values = self.check_shapes(shapes)?;
+        let mut m = self.typed.clone();
         if !values.is_empty() {
             m = m.set_symbols(&values).map_err(model_err)?;
         }
@@ -208,9 +256,129 @@ impl Model {
     }
 }
 
+/// Parses ONNX bytes into their protobuf and widens float16 weights: every
+/// `Cast(to = FLOAT)` whose input is a FLOAT16 initializer becomes a float32
+/// initializer named after the cast's output (and the half-precision copy
+/// is dropped when nothing else reads it). The bundled models store their
+/// weights this way (train/half_weights.py) to halve the download; any ONNX
+/// runtime runs them as they are, and after this pass the rest of the crate
+/// (tract, the factor folding, the hair heads' weight lookup) sees the
+/// float32 model the weights were rounded from.
+pub fn read_proto(bytes: &[u8]) -> Result<tract_onnx::pb::ModelProto> {
+    use tract_onnx::tract_core::framework::Framework;
+    let mut proto = guard_tract(|| {
+        let mut r = bytes;
+        tract_onnx::onnx()
+            .proto_model_for_read(&mut r)
+            .map_err(model_err)
+    })?;
+    if let Some(g) = proto.graph.as_mut() {
+        widen_half_weights(g)?;
+    }
+    Ok(proto)
+}
+
+const FLOAT: i32 = 1;
+const FLOAT16: i32 = 10;
+
+/// See [`read_proto`]. Returns the number of initializers widened.
+fn widen_half_weights(g: &mut tract_onnx::pb::GraphProto) -> Result<usize> {
+    let nodes = std::mem::take(&mut g.node);
+    let mut kept = Vec::with_capacity(nodes.len());
+    let mut widened = 0;
+    for node in nodes {
+        let to_float = node.op_type == "Cast"
+            && node.input.len() == 1
+            && node.output.len() == 1
+            && node
+                .attribute
+                .iter()
+                .any(|a| a.name == "to" && a.i == FLOAT as i64);
+        let half = to_float
+            .then(|| {
+                g.initializer
+                    .iter()
+                    .find(|t| t.name == node.input[0] && t.data_type == FLOAT16)
+            })
+            .flatten();
+        match half {
+            Some(t) => {
+                let values = half_values(t)?;
+                g.initializer.push(tract_onnx::pb::TensorProto {
+                    name: node.output[0].clone(),
+                    dims: t.dims.clone(),
+                    data_type: FLOAT,
+                    float_data: values,
+                    ..Default::default()
+                });
+                widened += 1;
+            }
+            None => kept.push(node),
+        }
+    }
+    g.node = kept;
+    let read: std::collections::HashSet<&str> = g
+        .node
+        .iter()
+        .flat_map(|n| n.input.iter().map(|s| s.as_str()))
+        .chain(g.output.iter().map(|o| o.name.as_str()))
+        .collect();
+    let keep: Vec<bool> = g
+        .initializer
+        .iter()
+        .map(|t| t.data_type != FLOAT16 || read.contains(t.name.as_str()))
+        .collect();
+    let mut k = keep.into_iter();
+    g.initializer.retain(|_| k.next().unwrap_or(true));
+    Ok(widened)
+}
+
+/// The values of a FLOAT16 initializer as f32, from `raw_data` (2 bytes
+/// each, little-endian) or `int32_data` (one half per entry, ONNX's rule).
+/// The count must match the dims.
+fn half_values(t: &tract_onnx::pb::TensorProto) -> Result<Vec<f32>> {
+    let bits: Vec<u16> = if !t.raw_data.is_empty() {
+        t.raw_data
+            .chunks_exact(2)
+            .map(|b| u16::from_le_bytes([b[0], b[1]]))
+            .collect()
+    } else {
+        t.int32_data.iter().map(|&v| v as u16).collect()
+    };
+    let want = t.dims.iter().try_fold(1usize, |n, &d| {
+        usize::try_from(d).ok().and_then(|d| n.checked_mul(d))
+    });
+    if want != Some(bits.len()) || !t.raw_data.len().is_multiple_of(2) {
+        return Err(Error::Model(format!(
+            "float16 initializer '{}': {} values for dims {:?}",
+            t.name,
+            bits.len(),
+            t.dims
+        )));
+    }
+    Ok(bits.into_iter().map(f16_to_f32).collect())
+}
+
+/// IEEE 754 binary16 to binary32, exact (subnormals, infinities, NaN kept).
+pub fn f16_to_f32(h: u16) -> f32 {
+    let sign = ((h as u32) & 0x8000) << 16;
+    let exp = ((h >> 10) & 0x1f) as u32;
+    let man = (h & 0x3ff) as u32;
+    let bits = match (exp, man) {
+        (0, 0) => sign,
+        (0, m) => {
+            // subnormal: m * 2^-24
+            let v = m as f32 * (1.0 / 16_777_216.0);
+            return if sign != 0 { -v } else { v };
+        }
+        (0x1f, m) => sign | 0x7f80_0000 | (m << 13),
+        (e, m) => sign | ((e + 112) << 23) | (m << 13),
+    };
+    f32::from_bits(bits)
+}
+
 /// The values of a 2-D float initializer, with its shape.
 fn matrix(t: &tract_onnx::pb::TensorProto) -> Option<(usize, usize, Vec<f32>)> {
-    const FLOAT: i32 = 1;
     if t.data_type != FLOAT || t.dims.len() != 2 || t.dims.iter().any(|&d| d < 0) {
         return None;
     }
@@ -289,4 +457,81 @@ fn fold_constant_matmuls(g: &mut tract_onnx::pb::GraphProto) -> Result<usize> {
     // Exports that list initializers as graph inputs too.
     g.input.retain(|i| !dropped.contains(&i.name));
     Ok(folded)
+}
+
+#[cfg(test)]
+mod half_tests {
+    use super::*;
+
+    #[test]
+    fn half_to_float_is_exact() {
+        assert_eq!(f16_to_f32(0x3c00), 1.0);
+        assert_eq!(f16_to_f32(0xc000), -2.0);
+        assert_eq!(f16_to_f32(0x7bff), 65504.0);
+        assert_eq!(f16_to_f32(0x3555), 0.333_251_95);
+        assert_eq!(f16_to_f32(0x0001), 2f32.powi(-24));
+        assert_eq!(f16_to_f32(0x8000).to_bits(), (-0.0f32).to_bits());
+        assert_eq!(f16_to_f32(0x7c00), f32::INFINITY);
+        assert!(f16_to_f32(0x7e00).is_nan());
+    }
+
+    fn cast_graph(half: tract_onnx::pb::TensorProto) -> tract_onnx::pb::GraphProto {
+        tract_onnx::pb::GraphProto {
+            initializer: vec![half],
+            node: vec![tract_onnx::pb::NodeProto {
+                op_type: "Cast".into(),
+                input: vec!["w::float16".into()],
+                output: vec!["w".into()],
+                attribute: vec![tract_onnx::pb::AttributeProto {
+                    name: "to".into(),
+                    i: FLOAT as i64,
+                    ..Default::default()
+                }],
+                ..Default::default()
+            }],
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn half_weights_become_float_initializers() {
+        let mut g = cast_graph(tract_onnx::pb::TensorProto {
+            name: "w::float16".into(),
+            dims: vec![2],
+            data_type: FLOAT16,
+            raw_data: vec![0x00, 0x3c, 0x00, 0xc0],
+            ..Default::default()
+        });
+        assert_eq!(widen_half_weights(&mut g).unwrap(), 1);
+        assert!(g.node.is_empty());
+        assert_eq!(g.initializer.len(), 1);
+        assert_eq!(g.initializer[0].name, "w");
+        assert_eq!(initializer_floats(&g.initializer[0]), vec![1.0, -2.0]);
+    }
+
+    #[test]
+    fn a_half_initializer_of_the_wrong_length_is_an_error() {
+        let mut g = cast_graph(tract_onnx::pb::TensorProto {
+            name: "w::float16".into(),
+            dims: vec![1_000_000_000],
+            data_type: FLOAT16,
+            raw_data: vec![0x00, 0x3c],
+            ..Default::default()
+        });
+        let e = widen_half_weights(&mut g).unwrap_err().to_string();
+        assert!(e.contains("float16 initializer 'w::float16'"), "{e}");
+    }
+
+    #[test]
+    fn the_bundled_models_load_without_half_precision_left() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../models/onnx");
+        let bytes = match std::fs::read(dir.join("rot6d_autoencoder.onnx")) {
+            Ok(b) => b,
+            Err(_) => return eprintln!("SKIP: models/onnx/rot6d_autoencoder.onnx missing"),
+        };
+        let p = read_proto(&bytes).unwrap();
+        let g = p.graph.unwrap();
+        assert!(g.initializer.iter().all(|t| t.data_type != FLOAT16));
+        assert!(g.node.iter().all(|n| n.op_type != "Cast"));
+    }
 }

@@ -76,11 +76,8 @@ pub struct HeadWeights {
 }
 
 fn head_weights(onnx: &[u8], c: usize) -> Result<HeadWeights> {
-    use tract_onnx::tract_core::framework::Framework;
-    let mut r = onnx;
-    let proto = tract_onnx::onnx()
-        .proto_model_for_read(&mut r)
-        .map_err(|e| Error::Model(format!("hair strands: {e}")))?;
+    let proto =
+        crate::runtime::read_proto(onnx).map_err(|e| Error::Model(format!("hair strands: {e}")))?;
     let g = proto
         .graph
         .ok_or_else(|| Error::Model("hair strands: no graph".into()))?;
