@@ -96,6 +96,16 @@ async function handleInit(msg) {
     }
     postMessage({ type: 'progress', id: 0, stage: 'loading models', fraction: 1 });
     model = new Inbetweener(g, p, m);
+    // One plan for any length now, so the first synthesis of each length
+    // does not wait for tract to optimize one (runtime::Model::prepare_any_shape),
+    // and one small synthesis of the rest pose, so that the user's first is
+    // not the one that brings the wasm code up to speed (it took 2x a warm one).
+    postMessage({ type: 'progress', id: 0, stage: 'preparing models', fraction: 1 });
+    model.prepareAnyLength();
+    postMessage({ type: 'progress', id: 0, stage: 'warming up', fraction: 1 });
+    const skel = BvhClip.parse(model.skeletonBvh);
+    const rest = new Float32Array(2 * skel.channelCount);
+    model.synthesize(new Uint32Array([0, 63]), rest, 64, true, new Float32Array(0), undefined, false).free();
     // The supervised residual network (issue 19) is optional and loads on
     // first use; its small manifest says here whether it is there.
     if (msg.models?.residual) {
@@ -103,7 +113,6 @@ async function handleInit(msg) {
     } else {
       residualManifest = await fetchText(urls.residualManifest).catch(() => null);
     }
-    const skel = BvhClip.parse(model.skeletonBvh);
     skeletonNames = skel.jointNames;
     const skeleton = { names: skeletonNames, parents: Array.from(skel.parents), offsets: Array.from(skel.offsets) };
     skel.free();

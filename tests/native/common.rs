@@ -37,7 +37,8 @@ pub fn fixture(name: &str) -> serde_json::Value {
 
 /// Runs `models/onnx/<fixture model>` in tract on the fixture's inputs (the
 /// multi-input `inputs` object, or the single `input`) and asserts that the
-/// first output is within `tol` of onnxruntime's.
+/// first output is within `tol` of onnxruntime's, with the shape's own
+/// plan and with the plan for any shape.
 pub fn fixture_parity(name: &str, tol: f32) {
     let f = fixture(name);
     let inputs: Vec<TensorF32> = match f["inputs"].as_object() {
@@ -50,13 +51,24 @@ pub fn fixture_parity(name: &str, tol: f32) {
     let path = root()
         .join("models/onnx")
         .join(f["model"].as_str().unwrap());
-    let model = Model::from_onnx_bytes(&std::fs::read(path).unwrap()).unwrap();
-    let out = model.run(&inputs).unwrap();
-    let diff = out[0]
-        .data
-        .iter()
-        .zip(floats(&f["output_onnxruntime"]))
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0f32, f32::max);
+    let bytes = std::fs::read(path).unwrap();
+    let expected = floats(&f["output_onnxruntime"]);
+    let max_diff = |out: &[TensorF32]| {
+        out[0]
+            .data
+            .iter()
+            .zip(&expected)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0f32, f32::max)
+    };
+    let model = Model::from_onnx_bytes(&bytes).unwrap();
+    let diff = max_diff(&model.run(&inputs).unwrap());
     assert!(diff <= tol, "{name}: tract vs onnxruntime {diff}");
+    // The plan optimized for any shape (what a page's worker prepares at
+    // start); tests/native/motion.rs runs it on several lengths.
+    let model = Model::from_onnx_bytes(&bytes).unwrap();
+    if model.prepare_any_shape().unwrap() {
+        let diff = max_diff(&model.run(&inputs).unwrap());
+        assert!(diff <= tol, "{name}: any-shape plan vs onnxruntime {diff}");
+    }
 }

@@ -857,3 +857,48 @@ fn clip_fixture(frames: usize, frame_time: f64) -> String {
     }
     s
 }
+
+#[test]
+fn the_plan_for_any_length_gives_each_length_s_own_result() {
+    // What a page's worker does after loading (Inbetweener.prepareAnyLength):
+    // one plan for every length instead of one per length.
+    let (Some(own), Some(any)) = (models(), models()) else {
+        return;
+    };
+    assert!(any.prepare_any_length().unwrap());
+    assert!(!any.prepare_any_length().unwrap(), "prepared twice");
+    let mut rng = Rng::new(17);
+    for (frames, gap) in [(91usize, 60usize), (250, 120), (700, 300)] {
+        let keys: Vec<Keyframe> = [0, gap, frames - 1]
+            .iter()
+            .map(|&f| rot_key(f, &mut rng, own.joints()))
+            .collect();
+        let req = Request {
+            keys,
+            frames,
+            dna: None,
+            post_process: true,
+            foot_lock: None,
+            variation: Some(1.0),
+        };
+        let a = own.synthesize(&req, &|| 0.0).unwrap().motion;
+        let b = any.synthesize(&req, &|| 0.0).unwrap().motion;
+        let mut worst = 0.0f64;
+        for t in 0..frames {
+            for k in 0..3 {
+                worst = worst.max((a.root[t][k] - b.root[t][k]).abs());
+            }
+            for (x, y) in a.rotations[t].iter().zip(&b.rotations[t]) {
+                for (p, q) in x.as_slice().iter().zip(y.as_slice()) {
+                    for (u, v) in p.iter().zip(q) {
+                        worst = worst.max((u - v).abs());
+                    }
+                }
+            }
+        }
+        assert!(
+            worst < 1e-3,
+            "{frames} frames: the any-length plan differs by {worst}"
+        );
+    }
+}

@@ -111,6 +111,16 @@ impl TweenModels {
         self.template.joints.len()
     }
 
+    /// Prepares the networks for requests of any length
+    /// ([`Model::prepare_any_shape`]), so that a long-lived caller's first
+    /// request of each length does not wait for plan optimization.
+    /// Returns whether a plan was built (false when already prepared).
+    pub fn prepare_any_length(&self) -> Result<bool> {
+        let g = self.generator.prepare_any_shape()?;
+        let p = self.path.prepare_any_shape()?;
+        Ok(g || p)
+    }
+
     /// Synthesizes a motion. `now_ms` is a clock (milliseconds) for the
     /// stage timings; pass `|| 0.0` to skip timing.
     pub fn synthesize(&self, req: &Request, now_ms: &dyn Fn() -> f64) -> Result<Output> {

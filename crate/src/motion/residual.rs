@@ -136,6 +136,12 @@ impl ResidualModel {
         Self::new(&read("tween_residual.onnx")?, &manifest)
     }
 
+    /// Prepares the network for requests of any length
+    /// ([`crate::runtime::Model::prepare_any_shape`]).
+    pub fn prepare_any_length(&self) -> Result<()> {
+        self.net.prepare_any_shape().map(|_| ())
+    }
+
     /// In-betweens whole-pose keys over `frames` frames. Frames before the
     /// first and after the last key hold those keys, as SLERP+LERP does.
     pub fn synthesize(&self, keys: &[Keyframe], frames: usize, variation: f32) -> Result<Motion> {

@@ -133,6 +133,19 @@ impl Inbetweener {
         })
     }
 
+    /// Prepares the networks for requests of any length, so that the first
+    /// request of each length does not wait for tract to optimize a plan
+    /// for it (a worker calls this once after loading; see
+    /// `runtime::Model::prepare_any_shape`).
+    #[wasm_bindgen(js_name = prepareAnyLength)]
+    pub fn prepare_any_length(&self) -> Result<(), JsError> {
+        self.inner.prepare_any_length().map_err(js_err)?;
+        if let Some(r) = &self.residual {
+            r.prepare_any_length().map_err(js_err)?;
+        }
+        Ok(())
+    }
+
     /// The variation `synthesize` uses when given none: the manifest's,
     /// chosen for this model on training takes.
     #[wasm_bindgen(getter, js_name = defaultVariation)]
@@ -351,6 +364,7 @@ impl Inbetweener {
     pub fn set_residual(&mut self, onnx: &[u8], manifest: &str) -> Result<(), JsError> {
         let m = crate::motion::residual::ResidualModel::new(onnx, manifest).map_err(js_err)?;
         crate::motion::clip::check_skeleton(&m.template, &self.inner.template).map_err(js_err)?;
+        m.prepare_any_length().map_err(js_err)?;
         self.residual = Some(m);
         Ok(())
     }
