@@ -115,6 +115,7 @@ class Skeleton:
                 return ("r" if n[0] == "l" else "l") + n[1:]
             return n
         idx = {n: i for i, n in enumerate(self.names)}
+        self.feet = [i for i, n in enumerate(self.names) if "Foot" in n or "Toe" in n]
         self.mirror_joint = [idx.get(other(n), i) for i, n in enumerate(self.names)]
         self.mirror_slot = [slot[self.mirror_joint[j]] for j in self.rotating]
         m = torch.tensor([-1.0, 1.0, 1.0])
@@ -235,6 +236,30 @@ def sample_keys(n, rng, lo=15, hi=300):
 
 # ---------------------------------------------------------------- network
 
+DILATIONS = (1, 2, 4, 8, 16, 32)
+
+
+def build(s):
+    """The network a checkpoint describes (older ones have no "dilations")."""
+    return ResidualTween(s["K"], s["width"], s.get("dilations", DILATIONS))
+
+
+def grow(net, state, dilations):
+    """Loads `state` into `net`, whose blocks extend the saved ones: the new
+    blocks' last convolution starts at zero, so each is the identity and the
+    grown network computes exactly what the saved one did."""
+    own = net.state_dict()
+    missing = [k for k in own if k not in state]
+    own.update({k: v.float() for k, v in state.items()})
+    net.load_state_dict(own)
+    with torch.no_grad():
+        for k in missing:
+            if ".c2." in k:
+                dict(net.named_parameters())[k].zero_()
+    # the output convolution comes after the blocks: same keys, same shapes
+    return missing
+
+
 class Block(nn.Module):
     def __init__(self, w, d):
         super().__init__()
@@ -248,9 +273,10 @@ class Block(nn.Module):
 class ResidualTween(nn.Module):
     """[B, 3 + 6K + 4, N] (base root / SCALE, base 6D, phase) -> residual [B, 3 + 6K, N]."""
 
-    def __init__(self, K, width=192, dilations=(1, 2, 4, 8, 16, 32)):
+    def __init__(self, K, width=192, dilations=DILATIONS):
         super().__init__()
         self.K = K
+        self.dilations = tuple(dilations)
         cin = 3 + 6 * K + 4
         self.inp = nn.Conv1d(cin, width, 3, padding=1)
         self.blocks = nn.Sequential(*[Block(width, d) for d in dilations])
@@ -335,6 +361,16 @@ def losses(net, skel, batch, w):
         sp = (rel[:, 1:] - rel[:, :-1]).norm(dim=-1)
         gsp = (grel[:, 1:] - grel[:, :-1]).norm(dim=-1)
         out["speed"] = (sp - gsp).abs().mean() * 10
+    if w.get("foot"):
+        # contact-aware foot velocity: where the truth's foot or toe is near
+        # the window's floor and nearly still, the output's should be still
+        f = skel.feet
+        fp, gfp = pos[:, :, f], gpos[:, :, f]
+        gv = (gfp[:, 1:] - gfp[:, :-1])[..., [0, 2]].norm(dim=-1)
+        floor = gpos[:, :, f, 1].amin(dim=(1, 2), keepdim=True)
+        contact = ((gfp[:, 1:, :, 1] < floor + 5 / SCALE) & (gv < 1 / SCALE)).float()
+        v = (fp[:, 1:] - fp[:, :-1])[..., [0, 2]].norm(dim=-1)
+        out["foot"] = (v * contact).sum() / contact.sum().clamp(min=1) * 10
     out["total"] = sum(w[k] * v for k, v in out.items() if w.get(k))
     return out
 
@@ -346,8 +382,8 @@ def train(args):
     d = np.load(args.data)
     skel = Skeleton(d)
     clips = Clips(d, "train")
-    net = ResidualTween(skel.K, args.width)
-    ema = ResidualTween(skel.K, args.width)
+    net = ResidualTween(skel.K, args.width, args.dilations)
+    ema = ResidualTween(skel.K, args.width, args.dilations)
     ema.load_state_dict(net.state_dict())
     opt = torch.optim.Adam(net.parameters(), lr=args.lr)
     step = 0
@@ -355,30 +391,32 @@ def train(args):
     ck = os.path.join(args.out, "ckpt.pt")
     if args.resume and os.path.exists(ck):
         s = torch.load(ck)
-        net.load_state_dict(s["net"])
-        ema.load_state_dict(s["ema"])
-        opt.load_state_dict(s["opt"])
+        added = grow(net, s["net"], args.dilations)
+        grow(ema, s["ema"], args.dilations)
+        if not added:
+            opt.load_state_dict(s["opt"])
         step = s["step"]
         rng = np.random.default_rng(args.seed + step)
-        print(f"resumed {ck} at step {step}", flush=True)
+        print(f"resumed {ck} at step {step}" + (f", {len(added)} new tensors (fresh optimizer)" if added else ""),
+              flush=True)
     elif args.resume and os.path.exists(PORTABLE):
         s = torch.load(PORTABLE)
-        net.load_state_dict({k: v.float() for k, v in s["net"].items()})
-        ema.load_state_dict({k: v.float() for k, v in s["ema"].items()})
+        grow(net, s["net"], args.dilations)
+        grow(ema, s["ema"], args.dilations)
         step = s["step"]
         rng = np.random.default_rng(args.seed + step)
         print(f"resumed {PORTABLE} at step {step} (fresh optimizer state)", flush=True)
     for g in opt.param_groups:
         g["lr"] = args.lr
     print(f"parameters: {sum(p.numel() for p in net.parameters()):,}", flush=True)
-    w = {"pos": 1.0, "rot": 0.5, "root": 1.0, "vel": 1.0, "speed": args.speed_weight}
+    w = {"pos": 1.0, "rot": 0.5, "root": 1.0, "vel": 1.0, "speed": args.speed_weight, "foot": args.foot_weight}
     log = open(os.path.join(args.out, "log.jsonl"), "a")
     t0, last = time.time(), time.time()
     acc = {}
 
     def save():
         state = {"net": net.state_dict(), "ema": ema.state_dict(), "opt": opt.state_dict(), "step": step,
-                 "width": args.width, "K": skel.K}
+                 "width": args.width, "K": skel.K, "dilations": list(args.dilations)}
         torch.save(state, ck + ".tmp")
         os.replace(ck + ".tmp", ck)
 
@@ -406,7 +444,8 @@ def train(args):
         if step % args.save_every == 0:
             save()
             if step % args.snapshot_every == 0:
-                torch.save({"ema": ema.state_dict(), "step": step, "width": args.width, "K": skel.K},
+                torch.save({"ema": ema.state_dict(), "step": step, "width": args.width, "K": skel.K,
+                            "dilations": list(args.dilations)},
                            os.path.join(args.out, f"gen_{step}.pt"))
     save()
     print(f"done at step {step}", flush=True)
@@ -426,8 +465,8 @@ def evaluate(args):
     net = None
     if args.ckpt:
         s = torch.load(args.ckpt)
-        net = ResidualTween(s["K"], s["width"])
-        net.load_state_dict(s["ema"])
+        net = build(s)
+        net.load_state_dict({k: v.float() for k, v in s["ema"].items()})
         net.eval()
     res = {}
     for g in args.gaps:
@@ -481,7 +520,7 @@ def export(args):
     from export_tween import fixture
     from export_util import ONNX_DIR, git_commit, write_json
     s = torch.load(args.ckpt)
-    net = ResidualTween(s["K"], s["width"])
+    net = build(s)
     net.load_state_dict({k: v.float() for k, v in s["ema"].items()})
     net.eval()
     d = np.load(args.data)
@@ -513,12 +552,15 @@ def export(args):
         "gate_frames": GATE_FRAMES,
         "rotating": skel.rotating,
         "skeleton_bvh": gen_manifest["skeleton_bvh"],
-        "training": {"steps": int(s["step"]), "width": int(s["width"]), "checkpoint": os.path.relpath(args.ckpt, ROOT)},
+        "training": {"steps": int(s["step"]), "width": int(s["width"]),
+                     "dilations": list(net.dilations), "checkpoint": os.path.relpath(args.ckpt, ROOT)},
         "parity_torch_vs_onnxruntime": parity,
         "training_data": "CMU train takes at 60 fps (59,290 frames, train/data_pipeline.py's split and floor filter), mirrored",
         "training_code_commit": git_commit(),
         "exporter": {"torch": torch.__version__, "onnxruntime": ort.__version__, "opset": 17},
     })
+    from half_weights import convert
+    convert("tween_residual")  # the shipped file keeps its weights as float16 (issue 21)
     print(f"exported {path} (step {s['step']}), parity {parity:.2e}")
 
 
@@ -553,7 +595,8 @@ def portable(args):
     s = torch.load(args.ckpt or os.path.join(args.out, "ckpt.pt"))
     half = {k: {n: v.half() for n, v in s[k].items()} for k in ("net", "ema")}
     os.makedirs(os.path.dirname(PORTABLE), exist_ok=True)
-    torch.save({**half, "step": s["step"], "width": s["width"], "K": s["K"]}, PORTABLE)
+    torch.save({**half, "step": s["step"], "width": s["width"], "K": s["K"],
+                "dilations": list(s.get("dilations", DILATIONS))}, PORTABLE)
     print(f"wrote {PORTABLE} (step {s['step']}, {os.path.getsize(PORTABLE) / 1e6:.1f} MB)")
 
 
@@ -573,6 +616,9 @@ def main():
     ap.add_argument("--ema", type=float, default=0.999)
     ap.add_argument("--mirror", type=int, default=1)
     ap.add_argument("--speed-weight", type=float, default=0.0)
+    ap.add_argument("--foot-weight", type=float, default=0.0)
+    ap.add_argument("--dilations", type=lambda s: tuple(int(x) for x in s.split(",")), default=DILATIONS,
+                    help="one residual block per dilation; resuming with more than saved appends identity blocks")
     ap.add_argument("--resume", action="store_true")
     ap.add_argument("--save-every", type=int, default=250)
     ap.add_argument("--snapshot-every", type=int, default=1000)
