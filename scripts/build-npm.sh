@@ -161,6 +161,10 @@ p.peerDependencies = { three: ">=0.150.0" };
 p.peerDependenciesMeta = { three: { optional: true } };
 p.license = "MIT OR Apache-2.0";
 p.sideEffects = ["./worker.js"];
+// The publisher names the source repository (DEEPREP_REPOSITORY=https://...);
+// without it the package has no repository field rather than a made-up one.
+delete p.repository;
+if (process.env.DEEPREP_REPOSITORY) p.repository = { type: "git", url: process.env.DEEPREP_REPOSITORY };
 p.exports = { ".": { types: "./deeprep.d.ts", default: "./deeprep.js" }, "./client.js": { types: "./client.d.ts", default: "./client.js" }, "./three.js": { types: "./three.d.ts", default: "./three.js" }, "./worker.js": "./worker.js", "./deeprep_bg.wasm": "./deeprep_bg.wasm" };
 fs.writeFileSync("pkg/package.json", JSON.stringify(p, null, 2) + "\n");
 '
