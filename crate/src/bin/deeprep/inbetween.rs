@@ -1,0 +1,282 @@
+//! `deeprep inbetween`: keys from a clip or a keys file to motion.
+
+use super::args::CliError;
+use super::bvh::load;
+use super::USAGE;
+
+/// `deeprep inbetween ...`.
+pub fn run(rest: &[&str]) -> Result<(), CliError> {
+    Ok(inbetween(rest)?)
+}
+
+struct Opts {
+    from_bvh: Option<String>,
+    keys: Option<String>,
+    keys_json: Option<String>,
+    frames: Option<usize>,
+    out: Option<String>,
+    method: String,
+    models: String,
+    post: bool,
+    foot_lock: bool,
+    variation: Option<f32>,
+    dna: Option<String>,
+    seed: Option<u64>,
+}
+
+fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
+    let mut o = Opts {
+        from_bvh: None,
+        keys: None,
+        keys_json: None,
+        frames: None,
+        out: None,
+        method: "model".into(),
+        models: "models/onnx".into(),
+        post: true,
+        foot_lock: false,
+        variation: None,
+        dna: None,
+        seed: None,
+    };
+    let mut i = 0;
+    while i < args.len() {
+        let next = |i: usize| {
+            args.get(i + 1)
+                .map(|s| s.to_string())
+                .ok_or_else(|| format!("{} needs a value", args[i]))
+        };
+        match args[i] {
+            "--from-bvh" => o.from_bvh = Some(next(i)?),
+            "--keys" => o.keys = Some(next(i)?),
+            "--frames" => {
+                o.frames = Some(
+                    next(i)?
+                        .parse()
+                        .map_err(|_| "--frames expects a number".to_string())?,
+                )
+            }
+            "-o" | "--out" => o.out = Some(next(i)?),
+            "--method" => o.method = next(i)?,
+            "--dna" => o.dna = Some(next(i)?),
+            "--seed" => {
+                o.seed = Some(
+                    next(i)?
+                        .parse()
+                        .map_err(|_| "--seed expects a non-negative integer".to_string())?,
+                )
+            }
+            "--variation" => {
+                o.variation = Some(
+                    next(i)?
+                        .parse()
+                        .map_err(|_| "--variation expects a number in [0, 2]".to_string())?,
+                )
+            }
+            "--models" => o.models = next(i)?,
+            "--no-post" => {
+                o.post = false;
+                i += 1;
+                continue;
+            }
+            "--foot-lock" => {
+                o.foot_lock = true;
+                i += 1;
+                continue;
+            }
+            "--no-foot-lock" => {
+                o.foot_lock = false;
+                i += 1;
+                continue;
+            }
+            a if !a.starts_with('-') && o.keys_json.is_none() => {
+                o.keys_json = Some(a.to_string());
+                i += 1;
+                continue;
+            }
+            a => return Err(format!("unknown option '{a}'\n{USAGE}")),
+        }
+        i += 2;
+    }
+    Ok(o)
+}
+
+fn synthesize(
+    o: &Opts,
+    keys: &[deeprep::motion::Keyframe],
+    frames: usize,
+    dna: Option<Vec<Vec<f32>>>,
+) -> Result<(deeprep::motion::Motion, String), String> {
+    use deeprep::motion::{baseline, pipeline};
+    match o.method.as_str() {
+        "slerp" => Ok((
+            baseline::slerp_lerp(keys, frames).map_err(|e| e.to_string())?,
+            String::new(),
+        )),
+        "zerovel" => Ok((
+            baseline::zero_velocity(keys, frames).map_err(|e| e.to_string())?,
+            String::new(),
+        )),
+        "residual" => {
+            if o.foot_lock || dna.is_some() || !o.post {
+                return Err("--method residual takes no --foot-lock, --dna or --no-post (its keys are exact by construction)".into());
+            }
+            let m =
+                deeprep::motion::residual::ResidualModel::load_dir(std::path::Path::new(&o.models))
+                    .map_err(|e| e.to_string())?;
+            let start = std::time::Instant::now();
+            let motion = m
+                .synthesize(keys, frames, o.variation.unwrap_or(1.0))
+                .map_err(|e| e.to_string())?;
+            let info = format!("{:.1} ms", start.elapsed().as_secs_f64() * 1000.0);
+            Ok((motion, info))
+        }
+        "model" => {
+            let m = pipeline::TweenModels::load_dir(std::path::Path::new(&o.models))
+                .map_err(|e| e.to_string())?;
+            let start = std::time::Instant::now();
+            let clock = move || start.elapsed().as_secs_f64() * 1000.0;
+            let req = pipeline::Request {
+                keys: keys.to_vec(),
+                frames,
+                dna,
+                post_process: o.post,
+                foot_lock: o.foot_lock.then(deeprep::motion::feet::FootLock::default),
+                variation: o.variation,
+            };
+            let out = m.synthesize(&req, &clock).map_err(|e| e.to_string())?;
+            let info = format!(
+                "key error before post-processing: root {:.3}, joints {:.3}; after: root {:.3}, joints {:.3}; feet: {} contacts pinned over {} frames; stages ms: generator {:.1}, rc-fk {:.1}, path {:.1}, post {:.1}",
+                out.key_error_raw.root,
+                out.key_error_raw.local,
+                out.key_error.root,
+                out.key_error.local,
+                out.foot_lock.contacts,
+                out.foot_lock.frames,
+                out.times.generator_ms,
+                out.times.rcfk_ms,
+                out.times.path_ms,
+                out.times.post_ms
+            );
+            Ok((out.motion, info))
+        }
+        other => Err(format!(
+            "unknown --method '{other}' (model, residual, slerp, zerovel)"
+        )),
+    }
+}
+
+/// Motion DNA poses from `--dna`: frames `F1,F2,...` of the `--from-bvh`
+/// clip, or every frame of a BVH file on the model's skeleton; with
+/// `--seed`, the representative frames of a seeded window of that file
+/// (`motion::dna::pick_dna_frames`) for an output of `out_frames` frames.
+fn dna_poses(
+    o: &Opts,
+    clip: Option<&deeprep::skeleton::Bvh>,
+    out_frames: usize,
+) -> Result<Option<Vec<Vec<f32>>>, String> {
+    use deeprep::motion::{dna_pose, Keyframe};
+    let Some(spec) = &o.dna else {
+        return match o.seed {
+            Some(_) => Err("--seed draws Motion DNA from a clip: give --dna DNA.bvh (without DNA the motion is deterministic)".into()),
+            None => Ok(None),
+        };
+    };
+    let frames: Option<Vec<usize>> = spec.split(',').map(|s| s.trim().parse().ok()).collect();
+    let file;
+    let (bvh, frames) = match frames {
+        Some(_) if o.seed.is_some() => {
+            return Err("--seed draws DNA frames from a --dna DNA.bvh file; with --dna F1,F2,... the frames are already chosen".into());
+        }
+        Some(f) => (
+            clip.ok_or(
+                "--dna F1,F2,... takes frames of the --from-bvh clip; give a BVH file otherwise",
+            )?,
+            f,
+        ),
+        None => {
+            file = load(spec)?;
+            let all: Vec<usize> = (0..file.frame_count()).collect();
+            let picked = match o.seed {
+                Some(seed) => {
+                    let poses = all
+                        .iter()
+                        .map(|&f| Keyframe::from_bvh(&file, f, f))
+                        .collect::<Result<Vec<_>, _>>()
+                        .map_err(|e| format!("--dna {spec}: {e}"))?;
+                    deeprep::motion::dna::pick_dna_frames(&poses, out_frames, seed)
+                        .map_err(|e| format!("--dna {spec}: {e}"))?
+                }
+                None => all,
+            };
+            (&file, picked)
+        }
+    };
+    if frames.is_empty() {
+        return Err(format!("--dna {spec}: no poses"));
+    }
+    frames
+        .iter()
+        .map(|&f| {
+            Keyframe::from_bvh(bvh, f, 0)
+                .map(|k| dna_pose(&k))
+                .map_err(|e| format!("--dna {spec}: frame {f}: {e}"))
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .map(Some)
+}
+
+fn inbetween(args: &[&str]) -> Result<(), String> {
+    let o = parse_inbetween(args)?;
+    if let Some(clip) = &o.from_bvh {
+        let b = load(clip)?;
+        let list = o.keys.as_ref().ok_or("--from-bvh needs --keys F1,F2,...")?;
+        let frames: Vec<usize> = list
+            .split(',')
+            .map(|s| {
+                s.trim()
+                    .parse::<usize>()
+                    .map_err(|_| format!("--keys: '{s}' is not a frame index"))
+            })
+            .collect::<Result<_, _>>()?;
+        let ck = deeprep::motion::clip::clip_keys(&b, &frames, false)
+            .map_err(|e| format!("--keys: {e}"))?;
+        let dna = dna_poses(&o, Some(&b), ck.frames())?;
+        let (motion, info) = synthesize(&o, &ck.keys, ck.frames(), dna)?;
+        let out = deeprep::motion::clip::splice(&b, &ck, &motion).map_err(|e| e.to_string())?;
+        let path = o.out.ok_or("-o OUT.bvh is required")?;
+        std::fs::write(&path, out.write()).map_err(|e| format!("{path}: {e}"))?;
+        let (first, last) = ck.span();
+        eprintln!(
+            "wrote {path}: {} frames, frames {first}..={last} synthesized by {}. {info}",
+            out.frame_count(),
+            o.method
+        );
+        return Ok(());
+    }
+    let keys_path = o
+        .keys_json
+        .clone()
+        .unwrap_or_else(|| "models/examples/keys.json".into());
+    let text = std::fs::read_to_string(&keys_path).map_err(|e| format!("{keys_path}: {e}"))?;
+    let models = deeprep::motion::pipeline::TweenModels::load_dir(std::path::Path::new(&o.models))
+        .map_err(|e| e.to_string())?;
+    let tpl = &models.template;
+    let file =
+        deeprep::motion::keys::from_json(&text, tpl).map_err(|e| format!("{keys_path}: {e}"))?;
+    let keys = file.keys;
+    let frames = o
+        .frames
+        .or(file.frames)
+        .ok_or("--frames N is required (or \"frames\" in the keys file)")?;
+    let dna = dna_poses(&o, None, frames)?;
+    let (motion, info) = synthesize(&o, &keys, frames, dna)?;
+    let out = motion.to_bvh(tpl, 1.0 / 60.0).map_err(|e| e.to_string())?;
+    let path = o.out.unwrap_or_else(|| "inbetween.bvh".into());
+    std::fs::write(&path, out.write()).map_err(|e| format!("{path}: {e}"))?;
+    eprintln!(
+        "wrote {path}: {frames} frames at 60 fps from {} keys. {info}",
+        keys.len()
+    );
+    Ok(())
+}

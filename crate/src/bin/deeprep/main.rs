@@ -1,0 +1,164 @@
+//! The deeprep command line: a table of commands, one module per family
+//! (`bvh`, `inbetween`, `mesh`, `hair`), each a thin layer over the
+//! library. `deeprep --help` lists them; `deeprep COMMAND --help` shows one.
+//!
+//! ```text
+//! deeprep bvh info FILE            skeleton, frame count and rate
+//! deeprep bvh fk FILE --frame N    one line per joint: <name> x y z (global, file units)
+//! ```
+
+mod args;
+mod bvh;
+mod hair;
+mod inbetween;
+mod mesh;
+
+use args::CliError;
+use std::process::ExitCode;
+
+const USAGE: &str = "usage:
+  deeprep bvh info FILE
+  deeprep bvh fk FILE --frame N
+  deeprep bvh export FILE --out PREFIX
+      writes PREFIX.json (skeleton, frame rate, layouts), PREFIX.positions.f32
+      (frames x joints x 3 global positions) and PREFIX.rc.f32 (frames x (3 + 6 + 3K):
+      root position, root 6D, range-constrained Euler angles in radians, clamped to
+      Table D.1), little-endian f32; for the training pipeline
+  deeprep inbetween --from-bvh CLIP.bvh --keys F1,F2,... -o OUT.bvh
+          [--method model|residual|slerp|zerovel] [--models DIR] [--no-post] [--foot-lock] [--variation V]
+          [--dna F1,F2,...|DNA.bvh [--seed S]]
+      whole-pose keys from those frames of CLIP; OUT has CLIP's length, frame rate and
+      skeleton; frames between the first and last key are synthesized, the others copied
+      --method residual: the supervised residual on SLERP+LERP (models/onnx/tween_residual.onnx;
+      --variation scales its correction, 1 by default)
+  deeprep inbetween KEYS.json --frames N [-o OUT.bvh] [--models DIR] [--no-post] [--foot-lock] [--variation V] [--dna DNA.bvh [--seed S]]
+      --no-post: keys not made exact; --foot-lock: after that, pin feet in contact by two-bone IK
+      (off by default: at the default variation it raised L2P, NPSS and foot skating on training takes)
+      --variation V in [0, 2]: share of the networks' departure from SLERP+LERP kept, in the pose
+      and the root path (1: the networks as trained; 0: SLERP+LERP; default: the model's
+      manifest value, chosen on training takes)
+      --dna: Motion DNA poses (Sec. 5.2.5), frames of CLIP or every frame of a BVH on the
+      model's skeleton; without it the whole-pose keys serve
+      --seed S (with --dna DNA.bvh): DNA drawn as in training, the representative frames
+      (largest rotation change) of a window of DNA.bvh that S places; equal seeds, equal motion
+      KEYS.json: {\"keys\": [{\"frame\": F, \"channels\": [...]}, ...]} (BVH channels of the
+      model's skeleton); without arguments, runs the bundled example models/examples/keys.json
+  deeprep mesh topology ROBOT.glb --out TOPOLOGY.json
+      the mesh autoencoder's topology: welded vertices, triangles, connected edge graph,
+      sampling levels (s = 2, r = 2) with padded index/mask tables, latent seed vertices
+  deeprep mesh poses ROBOT.glb --out PREFIX [--fps N] [--random N] [--seed S]
+      every animation clip sampled at N fps (default 30) plus N random poses (default 0;
+      each joint turned up to 30 degrees from a random clip frame), welded:
+      PREFIX.f32 (poses x vertices x 3, little-endian) and PREFIX.json (clip per pose)
+  deeprep hair dataset --out PREFIX [--base N] [--blends N] [--views N] [--size S] [--seed S]
+      procedural hair data (ch. 3): N base styles per class (18 classes: XS..XXL x
+      straight/wavy/curly), each mirrored, plus N in-class blends per base style, every
+      hair rendered from N random views at S x S; split by base style (train/val/test).
+      Writes PREFIX.json (hairs, classes, splits), PREFIX.strands.f32 (hairs x 1024 x 100
+      x 3, root-relative metres), PREFIX.curvature.f32 (hairs x 1024 x 100, 1/m),
+      PREFIX.images.u8 (renders x 3 x S x S) and PREFIX.visible.u8 (renders x 1024 x 100)
+  deeprep hair preview --class M-curly [--seed S] [--yaw DEG] [--size S] --out FILE.ppm
+      one procedural hair's render (orientation as red/green, segmentation as blue)";
+
+/// One command: the words that name it and what runs the rest of the
+/// arguments. Its usage is the entry of [`USAGE`] that starts with
+/// `deeprep <words>`.
+struct Command {
+    words: &'static [&'static str],
+    run: fn(&[&str]) -> Result<(), CliError>,
+}
+
+const COMMANDS: &[Command] = &[
+    Command {
+        words: &["bvh", "info"],
+        run: bvh::info,
+    },
+    Command {
+        words: &["bvh", "fk"],
+        run: bvh::positions,
+    },
+    Command {
+        words: &["bvh", "export"],
+        run: bvh::export,
+    },
+    Command {
+        words: &["inbetween"],
+        run: inbetween::run,
+    },
+    Command {
+        words: &["mesh", "topology"],
+        run: mesh::topology,
+    },
+    Command {
+        words: &["mesh", "poses"],
+        run: mesh::poses,
+    },
+    Command {
+        words: &["hair", "dataset"],
+        run: hair::dataset,
+    },
+    Command {
+        words: &["hair", "preview"],
+        run: hair::preview,
+    },
+];
+
+fn run(args: &[String]) -> Result<(), CliError> {
+    let a: Vec<&str> = args.iter().map(String::as_str).collect();
+    let cmd = COMMANDS
+        .iter()
+        .find(|c| a.len() >= c.words.len() && a[..c.words.len()] == *c.words)
+        .ok_or(CliError::Usage)?;
+    (cmd.run)(&a[cmd.words.len()..])
+}
+
+/// The usage entries of the command named by the leading words of `args`
+/// (`inbetween`, `bvh fk`, ...), or all of them when none matches.
+fn help(args: &[String]) -> String {
+    let words: Vec<&str> = args
+        .iter()
+        .map(String::as_str)
+        .take_while(|a| !a.starts_with('-'))
+        .take(2)
+        .collect();
+    // entries: a "  deeprep ..." line and the more-indented lines after it
+    let mut entries: Vec<Vec<&str>> = Vec::new();
+    for line in USAGE.lines().skip(1) {
+        if line.starts_with("  deeprep ") {
+            entries.push(vec![line]);
+        } else if let Some(e) = entries.last_mut() {
+            e.push(line);
+        }
+    }
+    for n in (1..=words.len()).rev() {
+        let prefix = format!("  deeprep {}", words[..n].join(" "));
+        let hits: Vec<String> = entries
+            .iter()
+            .filter(|e| e[0] == prefix || e[0].starts_with(&format!("{prefix} ")))
+            .map(|e| e.join("\n"))
+            .collect();
+        if !hits.is_empty() {
+            return format!("usage:\n{}", hits.join("\n"));
+        }
+    }
+    USAGE.to_string()
+}
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.iter().any(|a| a == "--help" || a == "-h") {
+        println!("{}", help(&args));
+        return ExitCode::SUCCESS;
+    }
+    match run(&args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            let text = match e {
+                CliError::Usage => help(&args),
+                CliError::Failed(m) => m,
+            };
+            eprintln!("deeprep: {text}");
+            ExitCode::from(2)
+        }
+    }
+}

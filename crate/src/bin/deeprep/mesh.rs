@@ -1,0 +1,157 @@
+//! `deeprep mesh topology` and `deeprep mesh poses`: the mesh autoencoder's
+//! topology tables and training poses from a rigged glTF.
+
+use super::args::CliError;
+use super::USAGE;
+
+/// The most random poses `mesh poses` writes (per clip: `mesh::rig::MAX_CLIP_SAMPLES`).
+const MAX_CLIP_POSES: usize = 100_000;
+
+/// `deeprep mesh topology ROBOT.glb --out TOPOLOGY.json`.
+pub fn topology(rest: &[&str]) -> Result<(), CliError> {
+    match rest {
+        [file, "--out", out] => Ok(mesh_topology(file, out)?),
+        _ => Err(CliError::Usage),
+    }
+}
+
+/// `deeprep mesh poses ROBOT.glb --out PREFIX [...]`.
+pub fn poses(rest: &[&str]) -> Result<(), CliError> {
+    match rest {
+        [file, options @ ..] => Ok(mesh_poses(file, options)?),
+        _ => Err(CliError::Usage),
+    }
+}
+
+fn robot(path: &str) -> Result<(deeprep::mesh::Rig, deeprep::mesh::Topology), String> {
+    let bytes = std::fs::read(path).map_err(|e| format!("{path}: {e}"))?;
+    let rig = deeprep::mesh::Rig::from_glb(&bytes).map_err(|e| format!("{path}: {e}"))?;
+    let topo = deeprep::mesh::Topology::robot(&rig).map_err(|e| format!("{path}: {e}"))?;
+    Ok((rig, topo))
+}
+
+fn mesh_topology(path: &str, out: &str) -> Result<(), String> {
+    let (rig, t) = robot(path)?;
+    let table = |n: &deeprep::mesh::NeighborTable| serde_json::json!({"rows": n.rows, "width": n.width, "indices": n.indices, "mask": n.mask});
+    let levels: Vec<serde_json::Value> = t
+        .levels
+        .iter()
+        .map(|l| {
+            serde_json::json!({
+                "stride": l.stride, "radius": l.radius, "selected": l.selected,
+                "edges": l.graph.edges(), "down": table(&l.down), "up": table(&l.up),
+            })
+        })
+        .collect();
+    let doc = serde_json::json!({
+        "source": path,
+        "rig_vertices": rig.vertex_count(),
+        "weld_map": t.weld_map,
+        "rest": t.rest,
+        "triangles": t.triangles,
+        "edges": t.graph.edges(),
+        "added_edges": t.added_edges,
+        "seeds": t.seeds,
+        "levels": levels,
+        "layout": "levels[k].down: one row per vertex of level k+1 (indices into level k); levels[k].up: one row per vertex of level k (indices into level k+1); level 0 is the welded mesh",
+    });
+    std::fs::write(out, doc.to_string()).map_err(|e| format!("{out}: {e}"))?;
+    let sizes: Vec<usize> = std::iter::once(t.rest.len())
+        .chain(t.levels.iter().map(|l| l.selected.len()))
+        .collect();
+    eprintln!(
+        "wrote {out}: {} rig vertices welded to {}, {} edges added, levels {sizes:?}",
+        rig.vertex_count(),
+        t.rest.len(),
+        t.added_edges.len()
+    );
+    Ok(())
+}
+
+fn mesh_poses(path: &str, rest: &[&str]) -> Result<(), String> {
+    let (mut out, mut fps, mut random, mut seed) = (None, 30.0f32, 0usize, 1u64);
+    let mut i = 0;
+    while i < rest.len() {
+        let val = rest
+            .get(i + 1)
+            .ok_or_else(|| format!("{} needs a value", rest[i]))?;
+        match rest[i] {
+            "--out" => out = Some(val.to_string()),
+            "--fps" => {
+                fps = val
+                    .parse()
+                    .map_err(|_| format!("--fps expects a number, got '{val}'"))?
+            }
+            "--random" => {
+                random = val
+                    .parse()
+                    .map_err(|_| format!("--random expects a count, got '{val}'"))?
+            }
+            "--seed" => {
+                seed = val
+                    .parse()
+                    .map_err(|_| format!("--seed expects an integer, got '{val}'"))?
+            }
+            a => return Err(format!("unknown option '{a}'\n{USAGE}")),
+        }
+        i += 2;
+    }
+    let out = out.ok_or_else(|| format!("--out PREFIX is required\n{USAGE}"))?;
+    if !(fps > 0.0 && fps <= 240.0) {
+        return Err(format!("--fps must be in (0, 240], got {fps}"));
+    }
+    if random > MAX_CLIP_POSES {
+        return Err(format!(
+            "--random is at most {MAX_CLIP_POSES}, got {random}"
+        ));
+    }
+    let (rig, t) = robot(path)?;
+    let mut data: Vec<f32> = Vec::new();
+    let mut labels = Vec::new();
+    let mut push = |pose: Vec<[f32; 3]>,
+                    label: serde_json::Value,
+                    data: &mut Vec<f32>|
+     -> Result<(), String> {
+        for p in t.weld_pose(&pose).map_err(|e| e.to_string())? {
+            data.extend_from_slice(&p);
+        }
+        labels.push(label);
+        Ok(())
+    };
+    for (k, a) in rig.animations.iter().enumerate() {
+        let frames = rig.clip_sample_count(k, fps).map_err(|e| e.to_string())?;
+        for f in 0..frames {
+            let pose = rig
+                .animation_pose(k, f as f32 / fps)
+                .map_err(|e| e.to_string())?;
+            push(
+                pose,
+                serde_json::json!({"clip": a.name, "time": f as f32 / fps}),
+                &mut data,
+            )?;
+        }
+    }
+    let mut rng = deeprep::rng::Rng::new(seed);
+    for r in 0..random {
+        let (local, k, time) = rig
+            .jittered_locals(&mut rng, 30f32.to_radians())
+            .map_err(|e| e.to_string())?;
+        let pose = rig.pose(&local).map_err(|e| e.to_string())?;
+        push(
+            pose,
+            serde_json::json!({"clip": "random", "index": r, "from": rig.animations[k].name, "time": time}),
+            &mut data,
+        )?;
+    }
+    let bytes: Vec<u8> = data.iter().flat_map(|v| v.to_le_bytes()).collect();
+    std::fs::write(format!("{out}.f32"), bytes).map_err(|e| format!("{out}.f32: {e}"))?;
+    let meta = serde_json::json!({"source": path, "vertices": t.rest.len(), "poses": labels.len(), "fps": fps, "seed": seed, "labels": labels});
+    std::fs::write(format!("{out}.json"), meta.to_string())
+        .map_err(|e| format!("{out}.json: {e}"))?;
+    eprintln!(
+        "wrote {out}.f32 and {out}.json: {} poses x {} vertices",
+        labels.len(),
+        t.rest.len()
+    );
+    Ok(())
+}
