@@ -325,13 +325,12 @@ def cubic_fk(bvh, keys):
     return fk_from_local(bvh, trans, loc)
 
 
-def main():
-    if not os.path.isdir(DATA):
-        sys.exit(f"SKIP: {DATA} is absent")
+def l2p_stats():
+    """Normalization statistics (LaFAN1's L2P): mean and standard deviation
+    of each joint coordinate over the global positions of training windows,
+    each re-centred on its first frame's root x/z like the evaluation
+    windows. Flat [3J] arrays (joint-major)."""
     d = np.load(os.path.join(ROOT, "train", "cache", "motion60.npz"))
-    # Normalization statistics (LaFAN1's L2P): global positions of training
-    # windows, each re-centred on its first frame's root x/z like the
-    # evaluation windows.
     glob = d["train_local"] + d["train_root"][:, None, :]
     starts = np.concatenate([[0], np.cumsum(d["train_seg_len"])[:-1]])
     chunks = []
@@ -341,7 +340,13 @@ def main():
             w[:, :, [0, 2]] -= glob[a, 0, [0, 2]]
             chunks.append(w.reshape(300, -1))
     flat = np.concatenate(chunks)
-    mu, sd = flat.mean(0), flat.std(0) + 1e-6
+    return flat.mean(0), flat.std(0) + 1e-6
+
+
+def main():
+    if not os.path.isdir(DATA):
+        sys.exit(f"SKIP: {DATA} is absent")
+    mu, sd = l2p_stats()
     if DIAGNOSTICS and not (HYBRID_BASE and "slerp" in METHODS):
         sys.exit("EVAL_HYBRIDS, EVAL_BLEND and EVAL_CUBIC need slerp and model (or model-nolock) in EVAL_METHODS")
     acc = {(m, g): {"l2p": [], "l2q": [], "gt": [], "pred": [], "skate": [], "accel": [], "speed": [], "gt_speed": [],

@@ -40,7 +40,7 @@ import torch.nn.functional as F
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 from data_pipeline import DATA, TRUE_FPS, VALIDATION, floor_segments, runs, take_of, MIN_SEGMENT  # noqa: E402
-from eval_tween import read_bvh, local_fk, fk_from_local, mat_to_quat, npss  # noqa: E402
+from eval_tween import read_bvh, local_fk, fk_from_local, mat_to_quat, npss, l2p_stats  # noqa: E402
 from deeprep_train.rotation import matrix_to_6d, quat_to_matrix, sixd_to_matrix  # noqa: E402
 
 ROOT = os.path.dirname(HERE)
@@ -361,6 +361,12 @@ def losses(net, skel, batch, w):
         sp = (rel[:, 1:] - rel[:, :-1]).norm(dim=-1)
         gsp = (grel[:, 1:] - grel[:, :-1]).norm(dim=-1)
         out["speed"] = (sp - gsp).abs().mean() * 10
+    if w.get("l2p"):
+        # the position error in L2P's units (each joint coordinate over its
+        # spread in training windows): heights count about 7x more than in
+        # "pos", as they do in the evaluation
+        B, N = pos.shape[:2]
+        out["l2p"] = ((pos - gpos).reshape(B, N, -1).abs() * skel.inv_sd * SCALE).mean()
     if w.get("foot"):
         # contact-aware foot velocity: where the truth's foot or toe is near
         # the window's floor and nearly still, the output's should be still
@@ -409,7 +415,9 @@ def train(args):
     for g in opt.param_groups:
         g["lr"] = args.lr
     print(f"parameters: {sum(p.numel() for p in net.parameters()):,}", flush=True)
-    w = {"pos": 1.0, "rot": 0.5, "root": 1.0, "vel": 1.0, "speed": args.speed_weight, "foot": args.foot_weight}
+    w = {"pos": 1.0, "rot": 0.5, "root": 1.0, "vel": 1.0, "speed": args.speed_weight, "foot": args.foot_weight,
+         "l2p": args.l2p_weight}
+    skel.inv_sd = torch.from_numpy(1.0 / l2p_stats()[1]).float()
     log = open(os.path.join(args.out, "log.jsonl"), "a")
     t0, last = time.time(), time.time()
     acc = {}
@@ -462,6 +470,11 @@ def evaluate(args):
     d = np.load(args.data)
     skel = Skeleton(d)
     clips = Clips(d, args.split)
+    # L2P as eval_tween.py computes it: position errors over each joint
+    # coordinate's spread in training windows (the mean cancels); heights
+    # weigh about 7x the horizontal coordinates. The canonical frame turns
+    # x/z about the vertical, which the nearly equal x and z spreads ignore.
+    inv_sd = torch.from_numpy(1.0 / l2p_stats()[1]).float()
     net = None
     if args.ckpt:
         s = torch.load(args.ckpt)
@@ -471,7 +484,7 @@ def evaluate(args):
     res = {}
     for g in args.gaps:
         n = 2 * g + 1
-        acc = {m: {"mpjpe": [], "speed": [], "pred": [], "gt": []} for m in ("slerp", "model")}
+        acc = {m: {"mpjpe": [], "l2p": [], "speed": [], "pred": [], "gt": []} for m in ("slerp", "model")}
         gt_speed = []
         for si in range(len(clips.lens)):
             a0 = int(clips.starts[si])
@@ -494,6 +507,7 @@ def evaluate(args):
                 for m, (r, q) in outs.items():
                     pos = fk(skel, r, q, offs)[0]
                     acc[m]["mpjpe"].append(float((pos - gpos)[mid].norm(dim=-1).mean()))
+                    acc[m]["l2p"].append(float(((pos - gpos)[mid].reshape(len(mid), -1) * inv_sd).norm(dim=-1).mean()))
                     rel = (pos - pos[:, :1])
                     acc[m]["speed"].append(float(rel.diff(dim=0).norm(dim=-1)[[t - 1 for t in mid if t > 0]].mean()))
                     acc[m]["pred"].append(rel[mid].reshape(len(mid), -1).numpy())
@@ -502,7 +516,7 @@ def evaluate(args):
         for m, a in acc.items():
             if not a["mpjpe"]:
                 continue
-            row[m] = {"mpjpe": float(np.mean(a["mpjpe"])),
+            row[m] = {"mpjpe": float(np.mean(a["mpjpe"])), "l2p": float(np.mean(a["l2p"])),
                       "npss": npss(np.stack(a["gt"]), np.stack(a["pred"])),
                       "speed_ratio": float(np.mean(a["speed"]) / np.mean(gt_speed))}
         res[g] = row
@@ -617,6 +631,8 @@ def main():
     ap.add_argument("--mirror", type=int, default=1)
     ap.add_argument("--speed-weight", type=float, default=0.0)
     ap.add_argument("--foot-weight", type=float, default=0.0)
+    ap.add_argument("--l2p-weight", type=float, default=0.0,
+                    help="weight of the position loss in L2P's units (per-coordinate spread)")
     ap.add_argument("--dilations", type=lambda s: tuple(int(x) for x in s.split(",")), default=DILATIONS,
                     help="one residual block per dilation; resuming with more than saved appends identity blocks")
     ap.add_argument("--resume", action="store_true")
