@@ -1,0 +1,49 @@
+// Every page with a GPU view, loaded without ?webgl2: WebGPU first, and in
+// headless Chromium (whose SwiftShader WebGPU loses its device after the
+// first present) the page must switch to WebGL2 by itself and draw. Checks
+// drawn pixels, not just the absence of errors (issue 24).
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import fs from 'node:fs';
+import path from 'node:path';
+import { launch, startServer, watchErrors, ROOT } from './chromium.mjs';
+
+const GLB = path.resolve(process.env.DEEPREP_DATA || path.join(ROOT, '..', 'shared', 'data'), 'gltf', 'RobotExpressive.glb');
+const HAVE_GLB = fs.existsSync(GLB);
+
+let browser, server;
+before(async () => { server = await startServer(); browser = await launch(); });
+after(async () => { await browser?.close(); await server?.close(); });
+
+// The share of pixels with anything drawn, read through the page's own
+// `pixels()` (which draws first), after the page has settled.
+async function drawn(page, global) {
+  await new Promise((r) => setTimeout(r, 500));
+  return page.evaluate(async (g) => {
+    const d = await window[g].pixels();
+    let lit = 0;
+    for (let i = 0; i < d.length; i += 4) if (Math.max(d[i], d[i + 1], d[i + 2]) > 60) lit++;
+    return lit / (d.length / 4);
+  }, global);
+}
+
+for (const [name, url, global, skip] of [
+  ['mesh', '/web/mesh.html', 'deeprepMesh', !HAVE_GLB && `no ${GLB}`],
+  ['hair', '/web/hair.html', 'deeprepHair', false],
+]) {
+  test(`${name} page without ?webgl2 recovers from a lost WebGPU device and draws`, { skip }, async () => {
+    const page = await browser.context.newPage();
+    const errors = watchErrors(page);
+    await page.goto(`${server.url}${url}`);
+    await page.waitForSelector('body[data-ready="1"]', { timeout: 180_000 }).catch(async (e) => {
+      throw new Error(`${name} page never became ready: ${await page.textContent('#status')} ${errors.join(' | ')} (${e.message})`);
+    });
+    const view = await page.evaluate(() => document.body.dataset.view);
+    const lit = await drawn(page, global);
+    console.log(`${name} page without ?webgl2: view ${view}, ${(100 * lit).toFixed(1)}% of pixels drawn`);
+    assert.ok(['webgpu', 'webgl2'].includes(view), `view: ${view}`);
+    assert.ok(lit > 0.01, `${name} page draws nothing after the device change (${lit})`);
+    assert.deepEqual(errors, []);
+    await page.close();
+  });
+}
