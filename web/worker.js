@@ -193,19 +193,8 @@ function handle(msg) {
   }
 }
 
-// Lengths of REFINE_FRAMES frames or more that ran on the plan for any
-// length get their own (1.3-1.45x faster) once no request has come for
-// IDLE_MS: the user is looking at the result, not waiting for one.
-const REFINE_FRAMES = 256, IDLE_MS = 400;
-let idleTimer = null;
-function refineWhenIdle() {
-  clearTimeout(idleTimer);
-  idleTimer = setTimeout(() => { try { model?.refinePlans(REFINE_FRAMES); } catch { /* plans stay as they are */ } }, IDLE_MS);
-}
-
 onmessage = async (e) => {
   const msg = e.data;
-  clearTimeout(idleTimer);
   try {
     if (msg.type === 'synthesize' && msg.method === 'residual' && model && !model.hasResidual && residualManifest) {
       postMessage({ type: 'progress', id: msg.id, stage: 'loading the residual network', fraction: 0.05 });
@@ -214,7 +203,6 @@ onmessage = async (e) => {
     if (msg.type === 'init') await handleInit(msg);
     else if (msg.type === 'ik') await handleIk(msg);
     else handle(msg);
-    if (msg.type === 'synthesize' || msg.type === 'synthesizeFromBvh') refineWhenIdle();
   } catch (err) {
     const trapped = err instanceof WebAssembly.RuntimeError;
     const code = trapped ? 'E_WASM_TRAP' : (err && err.code) || DEFAULT_CODE[msg.type] || 'E_BAD_INPUT';

@@ -21,16 +21,13 @@ use std::sync::Mutex;
 use tract_onnx::prelude::*;
 
 type Plan = TypedSimplePlan;
-/// The input shapes of one request.
-type Shapes = Vec<Vec<usize>>;
 
 /// A loaded ONNX model.
 pub struct Model {
     typed: TypedModel,
     plans: Mutex<HashMap<Vec<Vec<usize>>, std::sync::Arc<Plan>>>,
-    /// The plan for any shape ([`Model::prepare_any_shape`]) and the shapes
-    /// that ran on it, waiting for [`Model::refine_plans`].
-    any_shape: Mutex<Option<(std::sync::Arc<Plan>, Vec<Shapes>)>>,
+    /// The plan for any shape ([`Model::prepare_any_shape`]).
+    any_shape: Mutex<Option<std::sync::Arc<Plan>>>,
 }
 
 fn model_err(e: impl std::fmt::Display) -> Error {
@@ -153,30 +150,8 @@ impl Model {
                 .into_runnable()
                 .map_err(model_err)
         })?;
-        *slot = Some((plan, Vec::new()));
+        *slot = Some(plan);
         Ok(true)
-    }
-
-    /// Optimizes their own plans for the shapes that have run on the plan
-    /// for any shape since the last call, at least `min_elements` input
-    /// values large (smaller ones gain too little to be worth it), so that
-    /// they run at full speed from then on. Meant for idle time (a worker
-    /// calls it when no request has come for a while). Returns how many
-    /// plans it built.
-    pub fn refine_plans(&self, min_elements: usize) -> Result<usize> {
-        let pending = match self.any_shape.lock().map_err(model_err)?.as_mut() {
-            Some((_, pending)) => std::mem::take(pending),
-            None => return Ok(0),
-        };
-        let mut built = 0;
-        for shapes in pending {
-            let size: usize = shapes.iter().map(|s| s.iter().product::<usize>()).sum();
-            if size >= min_elements {
-                self.build_plan(&shapes)?;
-                built += 1;
-            }
-        }
-        Ok(built)
     }
 
     /// Number of inputs.
@@ -259,11 +234,8 @@ impl Model {
         if let Some(p) = self.plans.lock().map_err(model_err)?.get(shapes) {
             return Ok(p.clone());
         }
-        if let Some((plan, pending)) = self.any_shape.lock().map_err(model_err)?.as_mut() {
+        if let Some(plan) = self.any_shape.lock().map_err(model_err)?.as_ref() {
             self.check_shapes(shapes)?;
-            if !pending.iter().any(|p| p == shapes) {
-                pending.push(shapes.to_vec());
-            }
             return Ok(plan.clone());
         }
         self.build_plan(shapes)

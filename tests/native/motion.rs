@@ -901,9 +901,4 @@ fn the_plan_for_any_length_gives_each_length_s_own_result() {
             "{frames} frames: the any-length plan differs by {worst}"
         );
     }
-    // In idle time, lengths from 256 frames get their own plans: the
-    // networks run on multiples of 64 frames, so 250 (256) and 700 (704)
-    // do, for the generator and the path predictor; 91 (128) does not.
-    assert_eq!(any.refine_plans(256).unwrap(), 4);
-    assert_eq!(any.refine_plans(256).unwrap(), 0, "refined twice");
 }

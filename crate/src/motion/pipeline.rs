@@ -121,17 +121,6 @@ impl TweenModels {
         Ok(g || p)
     }
 
-    /// After [`Self::prepare_any_length`]: gives the lengths of at least
-    /// `min_frames` frames that have run since the last call their own
-    /// plans (1.3-1.45x faster, `runtime::Model::refine_plans`). For idle
-    /// time; returns how many plans were built.
-    pub fn refine_plans(&self, min_frames: usize) -> Result<usize> {
-        let p = 3 * self.joints();
-        let d = self.rc.output_dim();
-        Ok(self.generator.refine_plans(min_frames * 2 * (p + d))?
-            + self.path.refine_plans(min_frames * p)?)
-    }
-
     /// Synthesizes a motion. `now_ms` is a clock (milliseconds) for the
     /// stage timings; pass `|| 0.0` to skip timing.
     pub fn synthesize(&self, req: &Request, now_ms: &dyn Fn() -> f64) -> Result<Output> {

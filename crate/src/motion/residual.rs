@@ -142,13 +142,6 @@ impl ResidualModel {
         self.net.prepare_any_shape().map(|_| ())
     }
 
-    /// Own plans for the lengths of at least `min_frames` frames that ran
-    /// on the any-length plan ([`crate::runtime::Model::refine_plans`]).
-    pub fn refine_plans(&self, min_frames: usize) -> Result<usize> {
-        let channels = 3 + 6 * self.rotating.len() + 4;
-        self.net.refine_plans(min_frames * channels)
-    }
-
     /// In-betweens whole-pose keys over `frames` frames. Frames before the
     /// first and after the last key hold those keys, as SLERP+LERP does.
     pub fn synthesize(&self, keys: &[Keyframe], frames: usize, variation: f32) -> Result<Motion> {

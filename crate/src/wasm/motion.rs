@@ -146,19 +146,6 @@ impl Inbetweener {
         Ok(())
     }
 
-    /// Gives the lengths of at least `minFrames` frames that ran since the
-    /// last call their own plans, which run 1.3-1.45x faster than the plan
-    /// for any length. A worker calls it when idle; returns the number of
-    /// plans built (each takes about as long as a first request used to).
-    #[wasm_bindgen(js_name = refinePlans)]
-    pub fn refine_plans(&self, min_frames: usize) -> Result<usize, JsError> {
-        let mut n = self.inner.refine_plans(min_frames).map_err(js_err)?;
-        if let Some(r) = &self.residual {
-            n += r.refine_plans(min_frames).map_err(js_err)?;
-        }
-        Ok(n)
-    }
-
     /// The variation `synthesize` uses when given none: the manifest's,
     /// chosen for this model on training takes.
     #[wasm_bindgen(getter, js_name = defaultVariation)]
