@@ -902,3 +902,68 @@ fn the_plan_for_any_length_gives_each_length_s_own_result() {
         );
     }
 }
+
+#[test]
+fn joint_range_editing_reads_sets_and_clamps_one_joint() {
+    use deeprep::motion::edit::{joint_angles, set_joint_angles};
+    let Some(m) = models() else { return };
+    let (rc, tpl) = (&m.rc, &m.template);
+    let mut row = vec![0.0f32; tpl.channel_count()];
+    row[1] = 90.0;
+    // the channel ranges of each joint in the row
+    let mut at = 0;
+    let spans: Vec<std::ops::Range<usize>> = tpl
+        .joints
+        .iter()
+        .map(|j| {
+            at += j.channels.len();
+            at - j.channels.len()..at
+        })
+        .collect();
+    let joint = tpl.joints.iter().position(|j| j.name == "lShldr").unwrap();
+    let a = joint_angles(rc, tpl, &row, joint).unwrap();
+    for (v, [lo, hi]) in a.angles.iter().zip(a.ranges) {
+        assert!(lo < hi && (lo - 1e-6..=hi + 1e-6).contains(v), "{a:?}");
+    }
+    // inside the ranges: read back as set, the other joints untouched
+    let want: [f64; 3] = std::array::from_fn(|i| {
+        let [lo, hi] = a.ranges[i];
+        lo + (hi - lo) * (0.3 + 0.2 * i as f64)
+    });
+    let set = set_joint_angles(rc, tpl, &row, joint, want).unwrap();
+    let got = joint_angles(rc, tpl, &set, joint).unwrap();
+    for i in 0..3 {
+        assert!(
+            (got.angles[i] - want[i]).abs() < 1e-3,
+            "{got:?} vs {want:?}"
+        );
+    }
+    for (j, span) in spans.iter().enumerate().filter(|(j, _)| *j != joint) {
+        for c in span.clone() {
+            assert!(
+                (set[c] - row[c]).abs() < 1e-3,
+                "joint {j} channel {c} moved"
+            );
+        }
+    }
+    assert!(spans[joint].clone().any(|c| (set[c] - row[c]).abs() > 1.0));
+    // outside: clamped to the ranges
+    let far = set_joint_angles(rc, tpl, &row, joint, [1e3, -1e3, 1e3]).unwrap();
+    let got = joint_angles(rc, tpl, &far, joint).unwrap();
+    let bound = [a.ranges[0][1], a.ranges[1][0], a.ranges[2][1]];
+    for i in 0..3 {
+        assert!(
+            (got.angles[i] - bound[i]).abs() < 1e-3,
+            "{got:?} vs {bound:?}"
+        );
+    }
+    // errors, not panics
+    let e = joint_angles(rc, tpl, &row, 0).unwrap_err().to_string();
+    assert!(e.contains("not rotated by RC-FK"), "{e}");
+    assert!(joint_angles(rc, tpl, &row[1..], joint).is_err());
+    let mut nan = row.clone();
+    nan[5] = f32::NAN;
+    assert!(joint_angles(rc, tpl, &nan, joint).is_err());
+    assert!(set_joint_angles(rc, tpl, &row, joint, [0.0, f64::NAN, 0.0]).is_err());
+    assert!(set_joint_angles(rc, tpl, &row, tpl.joints.len() + 5, [0.0; 3]).is_err());
+}

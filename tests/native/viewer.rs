@@ -237,3 +237,56 @@ fn headless_render_shows_vertex_colors() {
         "{red} red, {blue} blue-grey without vertex colors"
     );
 }
+
+#[test]
+fn ground_and_view_plane_points_project_back_to_their_pixel() {
+    let mut cam = OrbitCamera::default();
+    cam.orbit(0.4, -0.2);
+    let (w, h) = (800.0, 600.0);
+    // a ground point seen below the horizon: on y = 0, and under the pixel
+    for g in [[10.0f32, 0.0, -20.0], [-60.0, 0.0, 35.0]] {
+        let px = cam.project(g, w, h).unwrap();
+        let p = cam.ground_point(px[0], px[1], w, h).unwrap();
+        assert!(
+            p.y == 0.0 && (p - glam::Vec3::from(g)).length() < 1e-2,
+            "{p:?} vs {g:?}"
+        );
+    }
+    // the top row looks above the horizon: no ground point
+    assert!(cam.ground_point(w / 2.0, 0.0, w, h).is_none());
+    // dragging a joint: the point on the plane through it facing the camera,
+    // under the cursor, at the joint's depth
+    let joint = glam::Vec3::new(5.0, 120.0, 3.0);
+    let px = cam.project(joint.to_array(), w, h).unwrap();
+    let same = cam.plane_point(px[0], px[1], w, h, joint).unwrap();
+    assert!((same - joint).length() < 1e-2, "{same:?}");
+    let moved = cam.plane_point(px[0] + 40.0, px[1], w, h, joint).unwrap();
+    let n = (cam.target - cam.eye()).normalize();
+    assert!(((moved - joint).dot(n)).abs() < 1e-2, "off the view plane");
+    let back = cam.project(moved.to_array(), w, h).unwrap();
+    assert!((back[0] - px[0] - 40.0).abs() < 0.05 && (back[1] - px[1]).abs() < 0.05);
+}
+
+#[test]
+fn sketch_poses_become_skeletons_with_a_selection_marker() {
+    let (p, par) = figure(0.0);
+    let flat: Vec<f32> = p.iter().flatten().copied().collect();
+    let keys: Vec<f32> = flat.iter().chain(&flat).map(|v| v + 1.0).collect();
+    let mut s = Scene::default();
+    s.set_sketch_poses(&flat, &keys, &par, Some(4)).unwrap();
+    assert_eq!(s.skeletons.len(), 4, "pose, two keys, the selected joint");
+    assert_eq!(s.skeletons[0].color, colors::POSE);
+    assert_eq!(s.skeletons[1].color, colors::KEY);
+    assert!(s.skeletons[1].joint_radius < s.skeletons[0].joint_radius);
+    assert_eq!(s.skeletons[3].positions, vec![p[4]]);
+    // no current pose: keys only, no marker
+    s.set_sketch_poses(&[], &keys, &par, Some(4)).unwrap();
+    assert_eq!(s.skeletons.len(), 2);
+    // lengths that do not fit the skeleton, or NaN: errors
+    assert!(s.set_sketch_poses(&flat[1..], &[], &par, None).is_err());
+    assert!(s.set_sketch_poses(&flat, &keys[1..], &par, None).is_err());
+    assert!(s.set_sketch_poses(&flat, &[], &[], None).is_err());
+    let mut nan = flat.clone();
+    nan[7] = f32::NAN;
+    assert!(s.set_sketch_poses(&nan, &[], &par, None).is_err());
+}

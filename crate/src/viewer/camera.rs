@@ -124,4 +124,31 @@ impl OrbitCamera {
         let (a, b) = (a.truncate() / a.w, b.truncate() / b.w);
         (a, (b - a).normalize())
     }
+
+    /// Where the ray through pixel (x, y) meets the ground (y = 0), or
+    /// `None` when it runs parallel to it or meets it behind the camera.
+    pub fn ground_point(&self, x: f32, y: f32, width: f32, height: f32) -> Option<Vec3> {
+        let (o, d) = self.ray(x, y, width, height);
+        if d.y.abs() < 1e-6 {
+            return None;
+        }
+        let t = -o.y / d.y;
+        (t > 0.0).then(|| {
+            let p = o + d * t;
+            Vec3::new(p.x, 0.0, p.z)
+        })
+    }
+
+    /// Where the ray through pixel (x, y) meets the plane through `p` that
+    /// faces the camera (for dragging a point in the view plane), or `None`
+    /// when the ray runs parallel to it.
+    pub fn plane_point(&self, x: f32, y: f32, width: f32, height: f32, p: Vec3) -> Option<Vec3> {
+        let (o, d) = self.ray(x, y, width, height);
+        let n = (self.target - self.eye()).normalize();
+        let denom = d.dot(n);
+        if denom.abs() < 1e-6 {
+            return None;
+        }
+        Some(o + d * ((p - o).dot(n) / denom))
+    }
 }

@@ -113,6 +113,54 @@ pub struct Scene {
     pub background: [f32; 4],
 }
 
+impl Scene {
+    /// The sketch page's skeletons: the current pose (global joint
+    /// positions, flat `joints × 3`, may be empty), key poses in the key
+    /// color, a little smaller (flat `keys × joints × 3`), and the selected
+    /// joint of the current pose as a larger marker. Replaces the scene's
+    /// skeletons; an error when the lengths do not fit `parents`.
+    pub fn set_sketch_poses(
+        &mut self,
+        pose: &[f32],
+        keys: &[f32],
+        parents: &[Option<usize>],
+        selected: Option<usize>,
+    ) -> crate::error::Result<()> {
+        let j = parents.len();
+        if j == 0 || keys.len() % (3 * j) != 0 || (!pose.is_empty() && pose.len() != 3 * j) {
+            return Err(crate::error::Error::Shape {
+                what: "viewer poses".into(),
+                expected: format!("{j} joints × 3 numbers per pose (and a skeleton)"),
+                found: format!("pose {}, keys {}", pose.len(), keys.len()),
+            });
+        }
+        crate::error::check_finite("viewer pose", pose)?;
+        crate::error::check_finite("viewer keys", keys)?;
+        let points = |v: &[f32]| v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+        self.skeletons.clear();
+        if !pose.is_empty() {
+            self.skeletons.push(SkeletonPose::new(
+                points(pose),
+                parents.to_vec(),
+                colors::POSE,
+            ));
+        }
+        for k in keys.chunks_exact(3 * j) {
+            let mut s = SkeletonPose::new(points(k), parents.to_vec(), colors::KEY);
+            s.joint_radius *= 0.8;
+            s.bone_radius *= 0.8;
+            self.skeletons.push(s);
+        }
+        if let (Some(sel), false) = (selected.filter(|&s| s < j), pose.is_empty()) {
+            let p = [pose[3 * sel], pose[3 * sel + 1], pose[3 * sel + 2]];
+            let mut s = SkeletonPose::new(vec![p], vec![None], colors::SELECTED);
+            s.joint_radius *= 1.8;
+            self.skeletons.push(s);
+        }
+        Ok(())
+    }
+}
+
 impl Default for Scene {
     fn default() -> Self {
         Scene {

@@ -222,22 +222,17 @@ impl Inbetweener {
     /// that RC-FK does not rotate (the root, End Sites).
     #[wasm_bindgen(js_name = rcAngles)]
     pub fn rc_angles(&self, channels: &[f32], joint: usize) -> Result<Vec<f64>, JsError> {
-        let k = self.rotating_index(joint)?;
-        let mut one = self.inner.template.clone();
-        one.motion = channels.to_vec();
-        if one.motion.len() != one.channel_count() {
-            return Err(JsError::new(&format!(
-                "expected {} channels, found {}",
-                one.channel_count(),
-                channels.len()
-            )));
-        }
-        let r = self.inner.rc.inverse(&one, 0).map_err(js_err)?;
-        let mut out: Vec<f64> = r.angles[k].iter().map(|a| a.to_degrees()).collect();
-        for rg in &self.inner.rc.ranges[k] {
-            out.extend(rg.iter().map(|a| a.to_degrees()));
-        }
-        Ok(out)
+        let a = crate::motion::edit::joint_angles(
+            &self.inner.rc,
+            &self.inner.template,
+            channels,
+            joint,
+        )
+        .map_err(js_err)?;
+        Ok(a.angles
+            .into_iter()
+            .chain(a.ranges.into_iter().flatten())
+            .collect())
     }
 
     /// Sets one joint's range-constrained angles (degrees, clamped to the
@@ -249,54 +244,17 @@ impl Inbetweener {
         joint: usize,
         angles: &[f64],
     ) -> Result<Vec<f32>, JsError> {
-        let k = self.rotating_index(joint)?;
-        if angles.len() != 3 || angles.iter().any(|a| !a.is_finite()) {
-            return Err(JsError::new(
-                "setRcAngles: expected 3 finite angles (degrees)",
-            ));
-        }
-        let mut one = self.inner.template.clone();
-        if channels.len() != one.channel_count() {
-            return Err(JsError::new(&format!(
-                "expected {} channels, found {}",
-                one.channel_count(),
-                channels.len()
-            )));
-        }
-        one.motion = channels.to_vec();
-        let u: [f64; 3] = std::array::from_fn(|a| {
-            let [lo, hi] = self.inner.rc.ranges[k][a];
-            angles[a].to_radians().clamp(lo, hi)
-        });
-        let m = self.inner.rc.rotation_for(k, u);
-        let key = crate::motion::Keyframe::from_bvh(&one, 0, 0).map_err(js_err)?;
-        let mut rots = key.rotations.unwrap_or_default();
-        rots[joint] = m;
-        let motion = crate::motion::Motion {
-            root: vec![[
-                key.positions[0] as f64,
-                key.positions[1] as f64,
-                key.positions[2] as f64,
-            ]],
-            rotations: vec![rots],
-        };
-        Ok(motion
-            .to_bvh(&self.inner.template, 1.0 / 60.0)
-            .map_err(js_err)?
-            .motion)
-    }
-
-    fn rotating_index(&self, joint: usize) -> Result<usize, JsError> {
-        self.inner
-            .rc
-            .rotating
-            .iter()
-            .position(|&j| j == joint)
-            .ok_or_else(|| {
-                JsError::new(&format!(
-                    "joint {joint} is not rotated by RC-FK (the root and End Sites are not)"
-                ))
-            })
+        let angles: [f64; 3] = angles
+            .try_into()
+            .map_err(|_| JsError::new("setRcAngles: expected 3 finite angles (degrees)"))?;
+        crate::motion::edit::set_joint_angles(
+            &self.inner.rc,
+            &self.inner.template,
+            channels,
+            joint,
+            angles,
+        )
+        .map_err(js_err)
     }
 
     /// In-betweening inside a user's clip (BVH bytes on the model's

@@ -184,45 +184,12 @@ impl Viewer {
     /// empty) and `keys` (key poses, k × joints × 3, in the key color).
     #[wasm_bindgen(js_name = setPoses)]
     pub fn set_poses(&mut self, pose: &[f32], keys: &[f32]) -> Result<(), JsError> {
-        use crate::viewer::scene::colors;
-        let j = self.parents.len();
-        if j == 0 {
+        if self.parents.is_empty() {
             return Err(JsError::new("viewer: call setParents first"));
         }
-        if keys.len() % (3 * j) != 0 || (!pose.is_empty() && pose.len() != 3 * j) {
-            return Err(JsError::new(&format!(
-                "viewer: poses must have {j} joints × 3 numbers (pose {}, keys {})",
-                pose.len(),
-                keys.len()
-            )));
-        }
-        self.scene.skeletons.clear();
-        if !pose.is_empty() {
-            self.scene.skeletons.push(crate::viewer::SkeletonPose::new(
-                points3(pose, "pose")?,
-                self.parents.clone(),
-                colors::POSE,
-            ));
-        }
-        for k in keys.chunks_exact(3 * j) {
-            let mut s = crate::viewer::SkeletonPose::new(
-                points3(k, "keys")?,
-                self.parents.clone(),
-                colors::KEY,
-            );
-            s.joint_radius *= 0.8;
-            s.bone_radius *= 0.8;
-            self.scene.skeletons.push(s);
-        }
-        if let (Some(sel), false) = (self.selected, pose.is_empty()) {
-            if sel < j {
-                let p = [pose[3 * sel], pose[3 * sel + 1], pose[3 * sel + 2]];
-                let mut s = crate::viewer::SkeletonPose::new(vec![p], vec![None], colors::SELECTED);
-                s.joint_radius *= 1.8;
-                self.scene.skeletons.push(s);
-            }
-        }
-        Ok(())
+        self.scene
+            .set_sketch_poses(pose, keys, &self.parents, self.selected)
+            .map_err(|e| JsError::new(&format!("viewer: {e}")))
     }
 
     /// The root trajectory (points × 3), drawn as dots on the ground.
@@ -414,16 +381,9 @@ impl Viewer {
     #[wasm_bindgen(js_name = groundPoint)]
     pub fn ground_point(&self, x: f32, y: f32) -> Vec<f32> {
         let (w, h) = (self.config.width as f32, self.config.height as f32);
-        let (o, d) = self.camera.ray(x, y, w, h);
-        if d.y.abs() < 1e-6 {
-            return Vec::new();
-        }
-        let t = -o.y / d.y;
-        if t <= 0.0 {
-            return Vec::new();
-        }
-        let p = o + d * t;
-        vec![p.x, 0.0, p.z]
+        self.camera
+            .ground_point(x, y, w, h)
+            .map_or(Vec::new(), |p| p.to_array().to_vec())
     }
 
     /// Where the ray through canvas pixel (x, y) meets the plane through
@@ -432,16 +392,9 @@ impl Viewer {
     #[wasm_bindgen(js_name = planePoint)]
     pub fn plane_point(&self, x: f32, y: f32, px: f32, py: f32, pz: f32) -> Vec<f32> {
         let (w, h) = (self.config.width as f32, self.config.height as f32);
-        let (o, d) = self.camera.ray(x, y, w, h);
-        let p = glam::Vec3::new(px, py, pz);
-        let n = (self.camera.target - self.camera.eye()).normalize();
-        let denom = d.dot(n);
-        if denom.abs() < 1e-6 {
-            return Vec::new();
-        }
-        let t = (p - o).dot(n) / denom;
-        let q = o + d * t;
-        vec![q.x, q.y, q.z]
+        self.camera
+            .plane_point(x, y, w, h, glam::Vec3::new(px, py, pz))
+            .map_or(Vec::new(), |p| p.to_array().to_vec())
     }
 
     /// Canvas pixel (x, y) of a world point, or an empty array behind the camera.
