@@ -127,7 +127,8 @@ impl Scene {
         selected: Option<usize>,
     ) -> crate::error::Result<()> {
         let j = parents.len();
-        if j == 0 || keys.len() % (3 * j) != 0 || (!pose.is_empty() && pose.len() != 3 * j) {
+        if j == 0 || !keys.len().is_multiple_of(3 * j) || (!pose.is_empty() && pose.len() != 3 * j)
+        {
             return Err(crate::error::Error::Shape {
                 what: "viewer poses".into(),
                 expected: format!("{j} joints × 3 numbers per pose (and a skeleton)"),
