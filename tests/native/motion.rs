@@ -967,3 +967,84 @@ fn joint_range_editing_reads_sets_and_clamps_one_joint() {
     assert!(set_joint_angles(rc, tpl, &row, joint, [0.0, f64::NAN, 0.0]).is_err());
     assert!(set_joint_angles(rc, tpl, &row, tpl.joints.len() + 5, [0.0; 3]).is_err());
 }
+
+#[test]
+fn keys_files_take_root_only_and_2d_keys() {
+    use deeprep::motion::keys::{from_json, KeyKind};
+    let Some(m) = models() else { return };
+    let tpl = &m.template;
+    let j = tpl.joints.len();
+    // a whole pose, a root-only key and a 2-D key (joint 0's x and y stand
+    // for the root's, joint 5 given, the rest unknown)
+    let mut row = vec![0.0f32; tpl.channel_count()];
+    row[1] = 56.0;
+    let mut xy = vec![serde_json::Value::Null; j];
+    xy[0] = serde_json::json!([30.0, 55.0]);
+    xy[5] = serde_json::json!([31.0, 110.0]);
+    let text = serde_json::json!({"frames": 200, "keys": [
+        {"frame": 0, "channels": row},
+        {"frame": 90, "root": [20.0, 56.0, 60.0]},
+        {"frame": 199, "xy": xy, "root": null},
+    ]})
+    .to_string();
+    let f = from_json(&text, tpl).unwrap();
+    assert!(f.keys[0].is_whole_pose() && f.keys[0].rotations.is_some());
+    let r = &f.keys[1];
+    assert_eq!(&r.positions[..3], &[20.0, 56.0, 60.0]);
+    assert_eq!(r.mask.iter().filter(|m| **m).count(), 3);
+    assert!(r.rotations.is_none());
+    let x = &f.keys[2];
+    assert_eq!((x.mask[0], x.mask[1], x.mask[2]), (true, true, false));
+    assert_eq!(
+        (x.positions[15], x.positions[16]),
+        (1.0, 55.0),
+        "joint 5 relative to the root"
+    );
+    assert_eq!(x.mask.iter().filter(|m| **m).count(), 4);
+    // the in-betweening runs on mixed keys; post-processing puts the root
+    // exactly on every coordinate the keys give
+    let req = Request {
+        keys: f.keys.clone(),
+        frames: 200,
+        dna: None,
+        post_process: true,
+        foot_lock: None,
+        variation: None,
+    };
+    let out = m.synthesize(&req, &|| 0.0).unwrap().motion;
+    for k in &f.keys {
+        for c in (0..3).filter(|&c| k.mask[c]) {
+            let d = (out.root[k.frame][c] - k.positions[c] as f64).abs();
+            assert!(d < 1e-4, "key at {} coordinate {c}: off by {d}", k.frame);
+        }
+    }
+    // from a whole pose: the root alone, or every joint's global x and y
+    let whole = &f.keys[0];
+    let root = KeyKind::Root.of(whole).unwrap();
+    assert_eq!(&root.positions[..3], &whole.positions[..3]);
+    let front = KeyKind::Xy.of(whole).unwrap();
+    for jj in 1..j {
+        for c in 0..2 {
+            assert!((front.positions[3 * jj + c] - whole.positions[3 * jj + c]).abs() < 1e-4);
+        }
+        assert!(!front.mask[3 * jj + 2], "depth stays unknown");
+    }
+    assert!(KeyKind::parse("depth").is_err());
+    // bad keys name the key
+    for (bad, says) in [
+        (
+            serde_json::json!({"frame": 3, "root": [0.0, 1.0]}),
+            "key 0: \"root\"",
+        ),
+        (
+            serde_json::json!({"frame": 3, "xy": [[0.0, 1.0]]}),
+            "key 0: \"xy\" must list",
+        ),
+        (serde_json::json!({"frame": 3}), "key 0 has none of"),
+    ] {
+        let e = from_json(&serde_json::json!({"keys": [bad]}).to_string(), tpl)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(says), "{e}");
+    }
+}

@@ -1,6 +1,12 @@
-//! The keys file: `{"frames": N, "keys": [{"frame": F, "channels": [...]}, ...]}`,
-//! each key a whole pose as one BVH channel row of the model's skeleton
-//! (`deeprep inbetween KEYS.json`, `models/examples/keys.json`).
+//! The keys file: `{"frames": N, "keys": [KEY, ...]}` (`deeprep inbetween
+//! KEYS.json`, `models/examples/keys.json`; the JS API takes the same keys).
+//! Each key is one of:
+//! - `{"frame": F, "channels": [...]}`: a whole pose, one BVH channel row of
+//!   the model's skeleton;
+//! - `{"frame": F, "root": [x, y, z]}`: the root's position only (Sec. 5.4.1);
+//! - `{"frame": F, "xy": [[x, y] or null per joint], "root": [x, y, z] or null}`:
+//!   global x and y of some joints, the front view (Sec. 5.4.2), in the
+//!   skeleton's joint order (`deeprep inbetween --skeleton`).
 //!
 //! Reading is strict: every problem is an error that names the key, and
 //! nothing is allocated from a count in the file before the data is there.
@@ -18,6 +24,51 @@ pub struct KeysFile {
     pub frames: Option<usize>,
 }
 
+/// What a key gives: a whole pose, the root's position only, or the
+/// front view's x and y of every joint with the root (Sec. 5.4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum KeyKind {
+    /// Every joint's position and rotation.
+    Pose,
+    /// The root's global position only.
+    Root,
+    /// Every joint's global x and y, and the root's position.
+    Xy,
+}
+
+impl KeyKind {
+    /// The kind named `pose`, `root` or `xy`.
+    pub fn parse(name: &str) -> Result<KeyKind> {
+        match name {
+            "pose" => Ok(KeyKind::Pose),
+            "root" => Ok(KeyKind::Root),
+            "xy" => Ok(KeyKind::Xy),
+            other => Err(bad(format!(
+                "unknown key kind '{other}' (pose, root or xy)"
+            ))),
+        }
+    }
+
+    /// What a whole-pose key gives of this kind.
+    pub fn of(self, whole: &Keyframe) -> Result<Keyframe> {
+        let p = &whole.positions;
+        let root = [p[0], p[1], p[2]];
+        match self {
+            KeyKind::Pose => Ok(whole.clone()),
+            KeyKind::Root => Ok(Keyframe::root_only(whole.frame, root, p.len() / 3)),
+            KeyKind::Xy => {
+                let xy: Vec<Option<[f32; 2]>> = (0..p.len() / 3)
+                    .map(|j| match j {
+                        0 => Some([root[0], root[1]]),
+                        j => Some([p[3 * j] + root[0], p[3 * j + 1] + root[1]]),
+                    })
+                    .collect();
+                Keyframe::xy(whole.frame, &xy, Some(root))
+            }
+        }
+    }
+}
+
 fn bad(msg: String) -> Error {
     Error::Invalid(msg)
 }
@@ -29,7 +80,6 @@ pub fn from_json(text: &str, template: &Bvh) -> Result<KeysFile> {
     let list = v["keys"]
         .as_array()
         .ok_or_else(|| bad("keys file: expected a \"keys\" array".into()))?;
-    let c = template.channel_count();
     let mut keys = Vec::with_capacity(list.len());
     for (i, k) in list.iter().enumerate() {
         let frame = k["frame"]
@@ -40,23 +90,7 @@ pub fn from_json(text: &str, template: &Bvh) -> Result<KeysFile> {
                     "key {i} lacks a \"frame\" (a non-negative integer)"
                 ))
             })?;
-        let ch = k["channels"]
-            .as_array()
-            .ok_or_else(|| bad(format!("key {i} lacks \"channels\"")))?;
-        if ch.len() != c {
-            return Err(bad(format!(
-                "key {i} has {} channels; the skeleton has {c}",
-                ch.len()
-            )));
-        }
-        let row = ch
-            .iter()
-            .map(|x| x.as_f64().map(|x| x as f32).filter(|x| x.is_finite()))
-            .collect::<Option<Vec<f32>>>()
-            .ok_or_else(|| bad(format!("key {i}: channels must be finite numbers")))?;
-        let mut one = template.clone();
-        one.motion = row;
-        keys.push(Keyframe::from_bvh(&one, 0, frame)?);
+        keys.push(key(i, frame, k, template)?);
     }
     let frames = match &v["frames"] {
         serde_json::Value::Null => None,
@@ -69,4 +103,76 @@ pub fn from_json(text: &str, template: &Bvh) -> Result<KeysFile> {
         ),
     };
     Ok(KeysFile { keys, frames })
+}
+
+/// Finite numbers from a JSON array of exactly `n` entries, or `None`.
+fn numbers(v: &serde_json::Value, n: usize) -> Option<Vec<f32>> {
+    let a = v.as_array().filter(|a| a.len() == n)?;
+    a.iter()
+        .map(|x| x.as_f64().map(|x| x as f32).filter(|x| x.is_finite()))
+        .collect()
+}
+
+/// Key `i` of the file (its frame already read), of whichever kind it is.
+fn key(i: usize, frame: usize, k: &serde_json::Value, template: &Bvh) -> Result<Keyframe> {
+    let has = |name: &str| !k[name].is_null();
+    let joints = template.joints.len();
+    let root = |what: &str| -> Result<Option<[f32; 3]>> {
+        if !has("root") {
+            return Ok(None);
+        }
+        numbers(&k["root"], 3)
+            .map(|r| Some([r[0], r[1], r[2]]))
+            .ok_or_else(|| bad(format!("key {i}: \"root\" must be [x, y, z], finite{what}")))
+    };
+    if has("channels") {
+        if has("root") || has("xy") {
+            return Err(bad(format!(
+                "key {i}: a whole pose (\"channels\") takes no \"root\" or \"xy\""
+            )));
+        }
+        let c = template.channel_count();
+        let n = k["channels"].as_array().map(|a| a.len());
+        if n != Some(c) {
+            return Err(bad(match n {
+                Some(n) => format!("key {i} has {n} channels; the skeleton has {c}"),
+                None => format!("key {i}: \"channels\" must be an array"),
+            }));
+        }
+        let row = numbers(&k["channels"], c)
+            .ok_or_else(|| bad(format!("key {i}: channels must be finite numbers")))?;
+        let mut one = template.clone();
+        one.motion = row;
+        return Keyframe::from_bvh(&one, 0, frame);
+    }
+    if has("xy") {
+        let list = k["xy"]
+            .as_array()
+            .filter(|a| a.len() == joints)
+            .ok_or_else(|| {
+                bad(format!(
+                    "key {i}: \"xy\" must list one [x, y] or null per joint ({joints} joints)"
+                ))
+            })?;
+        let xy = list
+            .iter()
+            .enumerate()
+            .map(|(j, p)| match p {
+                serde_json::Value::Null => Ok(None),
+                p => numbers(p, 2).map(|v| Some([v[0], v[1]])).ok_or_else(|| {
+                    bad(format!(
+                        "key {i}: \"xy\" entry {j} must be [x, y], finite, or null"
+                    ))
+                }),
+            })
+            .collect::<Result<Vec<_>>>()?;
+        return Keyframe::xy(frame, &xy, root(" or null")?)
+            .map_err(|e| bad(format!("key {i}: {e}")));
+    }
+    match root("")? {
+        Some(r) => Ok(Keyframe::root_only(frame, r, joints)),
+        None => Err(bad(format!(
+            "key {i} has none of \"channels\" (a whole pose), \"root\" (the root's position) or \"xy\" (2-D joints)"
+        ))),
+    }
 }

@@ -170,6 +170,71 @@ impl Keyframe {
         })
     }
 
+    /// A root-only key (Sec. 5.4.1): the root's global position at `frame`,
+    /// nothing else, on a skeleton of `joints` joints.
+    pub fn root_only(frame: usize, root: [f32; 3], joints: usize) -> Keyframe {
+        let mut positions = vec![0.0; 3 * joints];
+        let mut mask = vec![false; 3 * joints];
+        positions[..3].copy_from_slice(&root);
+        mask[..3].fill(true);
+        Keyframe {
+            frame,
+            positions,
+            mask,
+            rotations: None,
+        }
+    }
+
+    /// A 2-D key (Sec. 5.4.2, the front view): global x and y of some
+    /// joints (`xy[j]`, `None` where not given; joint 0 is the root), and
+    /// optionally the root's global position. Joint coordinates are stored
+    /// relative to the root, so a key that gives any other joint must give
+    /// the root's x and y (in `root` or `xy[0]`). Depth (z) stays unknown.
+    pub fn xy(frame: usize, xy: &[Option<[f32; 2]>], root: Option<[f32; 3]>) -> Result<Keyframe> {
+        let joints = xy.len();
+        if joints == 0 {
+            return Err(Error::Invalid("a 2-D key needs one entry per joint".into()));
+        }
+        let mut positions = vec![0.0; 3 * joints];
+        let mut mask = vec![false; 3 * joints];
+        let root_xy = match (root, xy[0]) {
+            (Some(r), _) => Some([r[0], r[1]]),
+            (None, r) => r,
+        };
+        if let Some(r) = root {
+            positions[..3].copy_from_slice(&r);
+            mask[..3].fill(true);
+        } else if let Some([x, y]) = xy[0] {
+            positions[..2].copy_from_slice(&[x, y]);
+            mask[..2].fill(true);
+        }
+        for (j, p) in xy.iter().enumerate().skip(1) {
+            if let Some([x, y]) = p {
+                let [rx, ry] = root_xy.ok_or_else(|| {
+                    Error::Invalid(format!(
+                        "a 2-D key at frame {frame} gives joint {j} but not the root's x and y"
+                    ))
+                })?;
+                positions[3 * j] = x - rx;
+                positions[3 * j + 1] = y - ry;
+                mask[3 * j] = true;
+                mask[3 * j + 1] = true;
+            }
+        }
+        crate::error::check_finite(&format!("2-D key at frame {frame}"), &positions)?;
+        Ok(Keyframe {
+            frame,
+            positions,
+            mask,
+            rotations: None,
+        })
+    }
+
+    /// True when the key gives every coordinate (a whole pose).
+    pub fn is_whole_pose(&self) -> bool {
+        self.mask.iter().all(|&m| m)
+    }
+
     /// True when the root's x, y and z are all given.
     pub fn has_root(&self) -> bool {
         self.mask.len() >= 3 && self.mask[0] && self.mask[1] && self.mask[2]

@@ -22,6 +22,8 @@ struct Opts {
     variation: Option<f32>,
     dna: Option<String>,
     seed: Option<u64>,
+    key_kind: String,
+    skeleton: bool,
 }
 
 fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
@@ -38,6 +40,8 @@ fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
         variation: None,
         dna: None,
         seed: None,
+        key_kind: "pose".into(),
+        skeleton: false,
     };
     let mut i = 0;
     while i < args.len() {
@@ -74,6 +78,12 @@ fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
                 )
             }
             "--models" => o.models = next(i)?,
+            "--key-kind" => o.key_kind = next(i)?,
+            "--skeleton" => {
+                o.skeleton = true;
+                i += 1;
+                continue;
+            }
             "--no-post" => {
                 o.post = false;
                 i += 1;
@@ -228,6 +238,21 @@ fn dna_poses(
 
 fn inbetween(args: &[&str]) -> Result<(), String> {
     let o = parse_inbetween(args)?;
+    if o.skeleton {
+        // the joint order of keys files' "xy" lists, one name a line
+        let m = deeprep::motion::pipeline::TweenModels::load_dir(std::path::Path::new(&o.models))
+            .map_err(|e| e.to_string())?;
+        let names: Vec<&str> = m.template.joints.iter().map(|j| j.name.as_str()).collect();
+        super::args::emit(&(names.join("\n") + "\n"));
+        return Ok(());
+    }
+    let kind = deeprep::motion::keys::KeyKind::parse(&o.key_kind)
+        .map_err(|e| format!("--key-kind: {e}"))?;
+    if kind != deeprep::motion::keys::KeyKind::Pose && o.from_bvh.is_none() {
+        return Err(
+            "--key-kind takes keys from a --from-bvh clip; a keys file says each key's kind".into(),
+        );
+    }
     if let Some(clip) = &o.from_bvh {
         let b = load(clip)?;
         let list = o.keys.as_ref().ok_or("--from-bvh needs --keys F1,F2,...")?;
@@ -239,8 +264,14 @@ fn inbetween(args: &[&str]) -> Result<(), String> {
                     .map_err(|_| format!("--keys: '{s}' is not a frame index"))
             })
             .collect::<Result<_, _>>()?;
-        let ck = deeprep::motion::clip::clip_keys(&b, &frames, false)
+        let mut ck = deeprep::motion::clip::clip_keys(&b, &frames, false)
             .map_err(|e| format!("--keys: {e}"))?;
+        ck.keys = ck
+            .keys
+            .iter()
+            .map(|k| kind.of(k))
+            .collect::<Result<_, _>>()
+            .map_err(|e| e.to_string())?;
         let dna = dna_poses(&o, Some(&b), ck.frames())?;
         let (motion, info) = synthesize(&o, &ck.keys, ck.frames(), dna)?;
         let out = deeprep::motion::clip::splice(&b, &ck, &motion).map_err(|e| e.to_string())?;

@@ -26,8 +26,9 @@ const USAGE: &str = "usage:
       Table D.1), little-endian f32; for the training pipeline
   deeprep inbetween --from-bvh CLIP.bvh --keys F1,F2,... -o OUT.bvh
           [--method model|residual|slerp|zerovel] [--models DIR] [--no-post] [--foot-lock] [--variation V]
-          [--dna F1,F2,...|DNA.bvh [--seed S]]
-      whole-pose keys from those frames of CLIP; OUT has CLIP's length, frame rate and
+          [--dna F1,F2,...|DNA.bvh [--seed S]] [--key-kind pose|root|xy]
+      keys from those frames of CLIP (--key-kind: whole poses, the default; the root's
+      position only; or every joint's global x and y with the root); OUT has CLIP's length, frame rate and
       skeleton; frames between the first and last key are synthesized, the others copied
       --method residual: the supervised residual on SLERP+LERP (models/onnx/tween_residual.onnx;
       --variation scales its correction, 1 by default)
@@ -41,8 +42,12 @@ const USAGE: &str = "usage:
       model's skeleton; without it the whole-pose keys serve
       --seed S (with --dna DNA.bvh): DNA drawn as in training, the representative frames
       (largest rotation change) of a window of DNA.bvh that S places; equal seeds, equal motion
-      KEYS.json: {\"keys\": [{\"frame\": F, \"channels\": [...]}, ...]} (BVH channels of the
-      model's skeleton); without arguments, runs the bundled example models/examples/keys.json
+      KEYS.json: {\"keys\": [KEY, ...]}, each KEY one of {\"frame\": F, \"channels\": [...]} (a whole
+      pose: BVH channels of the model's skeleton), {\"frame\": F, \"root\": [x, y, z]} (the root
+      only), {\"frame\": F, \"xy\": [[x, y] or null per joint], \"root\": [x, y, z] or null} (2-D
+      joints, front view); without arguments, runs the bundled example models/examples/keys.json
+  deeprep inbetween --skeleton [--models DIR]
+      the model skeleton's joint names, one a line (the order of \"xy\" lists)
   deeprep mesh topology ROBOT.glb --out TOPOLOGY.json
       the mesh autoencoder's topology: welded vertices, triangles, connected edge graph,
       sampling levels (s = 2, r = 2) with padded index/mask tables, latent seed vertices
