@@ -44,7 +44,6 @@ import tempfile
 
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bvh_io import read_hierarchy  # noqa: E402
 from data_pipeline import DATA, TRUE_FPS, VALIDATION, take_of  # noqa: E402
 

@@ -8,7 +8,6 @@ Run after train_hair.py:  train/.venv/bin/python train/export_hair.py [--name fu
 import argparse
 import json
 import os
-import sys
 
 import numpy as np
 import onnxruntime as ort
@@ -17,7 +16,6 @@ from torch import nn
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-sys.path.insert(0, HERE)
 from deeprep_train.hair import CURV_MAX, CURV_SCALE, GRID, POINTS, POS_SCALE, HairNet  # noqa: E402
 from export_util import ONNX_DIR, git_commit, write_json  # noqa: E402
 from train_hair import CACHE, Data  # noqa: E402

@@ -13,14 +13,12 @@ Run after ik_test.py:  train/.venv/bin/python train/export_ik.py [--rep rc|6d|qu
 import argparse
 import json
 import os
-import sys
 
 import numpy as np
 import onnxruntime as ort
 import torch
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
 from export_util import ONNX_DIR, git_commit, write_json  # noqa: E402
 from ik_test import SCALE, IKNet, RcFKHead, load, make_head  # noqa: E402
 

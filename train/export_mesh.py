@@ -14,7 +14,6 @@ Run: train/.venv/bin/python train/export_mesh.py [--name full] [--form matmul]
 import argparse
 import json
 import os
-import sys
 
 import numpy as np
 import onnxruntime as ort
@@ -23,7 +22,6 @@ from torch import nn
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-sys.path.insert(0, HERE)
 from deeprep_train.mesh import AvgPool, MeshAE, VdRes, density, load_topology  # noqa: E402
 from export_util import ONNX_DIR, git_commit, write_json  # noqa: E402
 

@@ -6,13 +6,11 @@ Run after train_tween.py:  train/.venv/bin/python train/export_tween.py
 """
 import json
 import os
-import sys
 
 import numpy as np
 import onnxruntime as ort
 import torch
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from deeprep_train.rcfk import RCFK, load_table  # noqa: E402
 from deeprep_train.tween import DT_CLIP, DT_NORM, GAN_TARGET, SCALE, Generator, PathPredictor  # noqa: E402
 from export_util import ONNX_DIR, git_commit, write_json  # noqa: E402

@@ -22,8 +22,6 @@ import sys
 
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
 from data_pipeline import DATA, TRUE_FPS, VALIDATION, take_of  # noqa: E402
 from deeprep_train.rcfk import TABLE_PATH, local_frame  # noqa: E402
 from eval_tween import axis_rot, read_bvh  # noqa: E402

@@ -26,7 +26,6 @@ import onnx
 import onnxruntime as ort
 from onnx import helper, numpy_helper
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from export_util import HALF_SUFFIX, ONNX_DIR, write_json  # noqa: E402
 
 MIN_SIZE = 64

@@ -35,7 +35,6 @@ import torch
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-sys.path.insert(0, HERE)
 from deeprep_train.rcfk import RCFK, _axis_rotation  # noqa: E402
 from deeprep_train.rotation import normalize, sixd_to_matrix  # noqa: E402
 

@@ -4,11 +4,9 @@ Rust parity test in tests/native/motion.rs. No data needed.
 Run: train/.venv/bin/python train/make_dense_fixture.py"""
 import json
 import os
-import sys
 
 import torch
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from deeprep_train.tween import BASES, SCALE, base_channels, dense_input, interp_channels  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))

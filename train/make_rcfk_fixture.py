@@ -7,11 +7,9 @@ Run: train/.venv/bin/python train/make_rcfk_fixture.py
 """
 import json
 import os
-import sys
 
 import torch
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from bvh_io import read_hierarchy  # noqa: E402
 from deeprep_train.rcfk import RCFK  # noqa: E402
 

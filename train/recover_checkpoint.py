@@ -23,7 +23,6 @@ import numpy as np
 import onnx
 import torch
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from deeprep_train.rcfk import RCFK  # noqa: E402
 from deeprep_train.tween import Generator, PathPredictor  # noqa: E402
 from export_util import ONNX_DIR, initializer_arrays  # noqa: E402

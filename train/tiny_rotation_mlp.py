@@ -14,14 +14,12 @@ Run:  train/.venv/bin/python train/tiny_rotation_mlp.py [--steps 4000]
 import argparse
 import math
 import os
-import sys
 import time
 
 import numpy as np
 import torch
 import torch.nn as nn
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from deeprep_train.rotation import geodesic, random_so3, sixd_to_matrix  # noqa: E402
 from export_util import ONNX_DIR, git_commit, write_json  # noqa: E402
 

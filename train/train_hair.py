@@ -16,7 +16,6 @@ Writes train/cache/hair/<name>.pt and a row of docs/hair_results.json.
 import argparse
 import json
 import os
-import sys
 import time
 
 import numpy as np
@@ -24,7 +23,6 @@ import torch
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-sys.path.insert(0, HERE)
 from deeprep_train.hair import CURV_MAX, CURV_SCALE, GRID, POINTS, POS_SCALE, HairNet, collision, curv_from, strands_from  # noqa: E402
 
 CACHE = os.path.join(ROOT, "train", "cache", "hair")

@@ -16,7 +16,6 @@ Writes train/cache/mesh/<name>.pt and adds a row to docs/mesh_results.json.
 import argparse
 import json
 import os
-import sys
 import time
 
 import numpy as np
@@ -24,7 +23,6 @@ import torch
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-sys.path.insert(0, HERE)
 from deeprep_train.mesh import MeshAE, load_topology  # noqa: E402
 
 CACHE = os.path.join(ROOT, "train", "cache", "mesh")

@@ -19,7 +19,6 @@ import time
 import numpy as np
 import torch
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from deeprep_train.rcfk import RCFK  # noqa: E402
 from deeprep_train.rotation import sixd_to_matrix  # noqa: E402
 from deeprep_train.tween import (SCALE, GAN_TARGET, Discriminator, Generator, PathPredictor,  # noqa: E402

@@ -29,7 +29,6 @@ import argparse
 import json
 import math
 import os
-import sys
 import time
 
 import numpy as np
@@ -38,7 +37,6 @@ import torch.nn as nn
 import torch.nn.functional as F
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
 from data_pipeline import DATA, TRUE_FPS, VALIDATION, floor_segments, runs, take_of, MIN_SEGMENT  # noqa: E402
 from eval_tween import read_bvh, local_fk, fk_from_local, mat_to_quat, npss, l2p_stats  # noqa: E402
 from deeprep_train.rotation import matrix_to_6d, quat_to_matrix, sixd_to_matrix  # noqa: E402
