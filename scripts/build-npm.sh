@@ -62,17 +62,28 @@ export interface SynthesisResult {
   /** Mean key errors: root and joints before post-processing, then after. */
   keyError: number[];
 }
+/** A whole pose: one BVH channel row of the model's skeleton. */
+export interface PoseKey { frame: number; channels: number[] }
+/** The root's global position only (thesis Sec. 5.4.1: a path on the ground). */
+export interface RootKey { frame: number; root: [number, number, number] }
+/** Global x and y of joints (front view, Sec. 5.4.2), null where not given, in the
+ *  skeleton's joint order (client.skeleton.names); the root's position, or null. */
+export interface XyKey { frame: number; xy: ([number, number] | null)[]; root: [number, number, number] | null }
+export type Key = PoseKey | RootKey | XyKey;
 export interface SynthesisRequest {
-  /** Sorted, unique key frames, each < frames, at most 600 apart. */
-  keyFrames: number[];
+  /** Keys of any kind, sorted by frame, unique, each < frames, at most 600 apart
+   *  (instead of keyFrames + keyChannels). Root-only and 2-D keys need method 'model'. */
+  keys?: Key[];
+  /** Sorted, unique key frames, each < frames, at most 600 apart (whole poses). */
+  keyFrames?: number[];
   /** BVH channel rows of the model's skeleton, keys x channels. */
-  keyChannels: number[] | Float32Array;
+  keyChannels?: number[] | Float32Array;
   frames: number;
   post?: boolean;
   /** After post-processing, pin feet in contact by two-bone IK (default false). */
   footLock?: boolean;
-  /** Motion DNA poses as channel rows (may be empty). */
-  dna?: number[] | Float32Array;
+  /** Motion DNA poses as channel rows (may be empty); with `keys`, a list of rows. */
+  dna?: number[] | Float32Array | number[][];
   /** 'residual': the supervised residual network (variation scales its correction; no DNA, post or foot locking). */
   method?: 'model' | 'residual' | 'slerp';
   /** Share of the networks' departure from SLERP+LERP kept, in the pose and the

@@ -5,6 +5,7 @@
 //      shipped beside this file in the npm package, models/)
 //   <- {type: 'ready', skeletonBvh, hasModel, defaultVariation, modelError}
 //   -> {type: 'synthesize', id, keyFrames, keyChannels, frames, post, dna, method, variation, footLock}
+//      or {type: 'synthesize', id, keys, frames, ...}: keys of any kind (pose, root, xy; motion::keys)
 //   <- {type: 'progress', id, stage, fraction}  ...  {type: 'result', id, ...} | {type: 'error', id, message}
 //   -> {type: 'rcAngles', id, channels, joint} / {type: 'setRcAngles', id, channels, joint, angles}
 //   -> {type: 'ik', id, positions, frames}   (IK from joint positions; the IK model loads on first use)
@@ -172,6 +173,12 @@ function handle(msg) {
   if (!model) throw coded('E_MODEL_LOAD', 'the in-betweening models are not loaded');
   if (msg.type === 'synthesize') {
     postMessage({ type: 'progress', id, stage: msg.method === 'slerp' ? 'interpolating' : 'generator, RC-FK, path, post-processing', fraction: 0.1 });
+    if (msg.keys) {
+      // keys of any kind (whole pose, root only, 2-D joints): the core reads the request
+      const { type, id: _, signal, ...request } = msg;
+      postResult(id, msg.method, model.synthesizeRequest(JSON.stringify(request)));
+      return;
+    }
     const kf = new Uint32Array(msg.keyFrames);
     const kc = new Float32Array(msg.keyChannels);
     const r = msg.method === 'slerp' ? model.interpolate(kf, kc, msg.frames)

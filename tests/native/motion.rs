@@ -1048,3 +1048,37 @@ fn keys_files_take_root_only_and_2d_keys() {
         assert!(e.contains(says), "{e}");
     }
 }
+
+#[test]
+fn requests_as_json_carry_method_options_and_dna() {
+    use deeprep::motion::keys::request_from_json;
+    let Some(m) = models() else { return };
+    let tpl = &m.template;
+    let row = vec![0.0f32; tpl.channel_count()];
+    let doc = request_from_json(
+        &serde_json::json!({"frames": 90, "keys": [{"frame": 0, "root": [0.0, 56.0, 0.0]}],
+                            "method": "slerp", "post": false, "footLock": true, "variation": 0.5,
+                            "dna": [row.clone(), row.clone()]})
+        .to_string(),
+        tpl,
+    )
+    .unwrap();
+    assert_eq!(doc.file.frames, Some(90));
+    assert_eq!(doc.method, "slerp");
+    assert!(!doc.post && doc.foot_lock);
+    assert_eq!(doc.variation, Some(0.5));
+    assert_eq!(doc.dna.as_ref().map(|d| d.len()), Some(2));
+    assert_eq!(doc.dna.unwrap()[0].len(), 3 * tpl.joints.len());
+    // defaults
+    let doc = request_from_json(r#"{"keys": [{"frame": 0, "root": [0, 56, 0]}]}"#, tpl).unwrap();
+    assert!(doc.method == "model" && doc.post && !doc.foot_lock && doc.variation.is_none() && doc.dna.is_none());
+    for (bad, says) in [
+        (r#"{"keys": [], "method": "fast"}"#, "\"method\""),
+        (r#"{"keys": [], "post": 1}"#, "\"post\""),
+        (r#"{"keys": [], "variation": "x"}"#, "\"variation\""),
+        (r#"{"keys": [], "dna": [[1, 2]]}"#, "\"dna\" pose 0"),
+    ] {
+        let e = request_from_json(bad, tpl).unwrap_err().to_string();
+        assert!(e.contains(says), "{bad}: {e}");
+    }
+}

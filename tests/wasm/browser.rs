@@ -310,6 +310,25 @@ fn hostile_inputs_reject_and_the_instance_keeps_working() {
     assert!(m
         .synthesize(&[0, 10], &two, 20, true, &[], Some(f32::NAN), None)
         .is_err());
+    // requests as JSON with keys of any kind (issue 20): bad ones are errors
+    for bad in [
+        "{",
+        r#"{"keys": [{"frame": 0, "root": [0, 56, 0]}]}"#,
+        r#"{"frames": 60, "keys": [{"frame": 0, "root": [0, 56]}]}"#,
+        r#"{"frames": 60, "keys": [{"frame": 0, "root": [0, 56, 0]}], "method": "fast"}"#,
+        r#"{"frames": 60, "keys": [{"frame": 0, "root": [0, 56, 0]}, {"frame": 59, "root": [1, 56, 0]}], "method": "slerp"}"#,
+        r#"{"frames": 60, "keys": [{"frame": 70, "root": [0, 56, 0]}]}"#,
+    ] {
+        assert!(m.synthesize_request(bad).is_err(), "{bad}");
+    }
+    // root-only keys run, and the root passes through them
+    let r = m
+        .synthesize_request(
+            r#"{"frames": 61, "keys": [{"frame": 0, "root": [0, 56, 0]}, {"frame": 60, "root": [50, 56, 40]}]}"#,
+        )
+        .unwrap();
+    let (p, j) = (r.positions(), tpl.joint_names().len());
+    assert!((p[60 * 3 * j] - 50.0).abs() < 1e-3 && (p[60 * 3 * j + 2] - 40.0).abs() < 1e-3);
     assert!(m.rc_angles(&row, 0).is_err(), "the root is not an RC joint");
     assert!(m.set_rc_angles(&row, 5, &[f64::NAN, 0.0, 0.0]).is_err());
     // hair photo sizes whose product wraps on 32-bit

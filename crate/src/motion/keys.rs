@@ -176,3 +176,89 @@ fn key(i: usize, frame: usize, k: &serde_json::Value, template: &Bvh) -> Result<
         ))),
     }
 }
+
+/// A whole in-betweening request as JSON, the form the JS API sends:
+/// a keys file (`"frames"`, `"keys"` of any kind) plus
+/// `"method"` (`"model"`, the default; `"residual"`; `"slerp"`),
+/// `"post"` (make keys exact; default true), `"footLock"` (default false),
+/// `"variation"` (default: the model's) and `"dna"` (Motion DNA poses as
+/// channel rows of the skeleton; default: the whole-pose keys).
+#[derive(Clone, Debug)]
+pub struct RequestDoc {
+    /// The keys and the length.
+    pub file: KeysFile,
+    /// Which in-betweening runs.
+    pub method: String,
+    /// Post-processing on.
+    pub post: bool,
+    /// Foot locking on (with post-processing).
+    pub foot_lock: bool,
+    /// The variation, if given.
+    pub variation: Option<f32>,
+    /// Motion DNA poses (`dna_pose` form), if given.
+    pub dna: Option<Vec<Vec<f32>>>,
+}
+
+/// Reads a [`RequestDoc`] on `template`'s skeleton; every problem is an
+/// error that names the field.
+pub fn request_from_json(text: &str, template: &Bvh) -> Result<RequestDoc> {
+    let file = from_json(text, template)?;
+    let v: serde_json::Value =
+        serde_json::from_str(text).map_err(|e| bad(format!("request: {e}")))?;
+    let flag = |name: &str, default: bool| match &v[name] {
+        serde_json::Value::Null => Ok(default),
+        serde_json::Value::Bool(b) => Ok(*b),
+        _ => Err(bad(format!("request: \"{name}\" must be true or false"))),
+    };
+    let method = match &v["method"] {
+        serde_json::Value::Null => "model".to_string(),
+        serde_json::Value::String(s) if ["model", "residual", "slerp"].contains(&s.as_str()) => {
+            s.clone()
+        }
+        m => {
+            return Err(bad(format!(
+                "request: unknown \"method\" {m} (model, residual or slerp)"
+            )))
+        }
+    };
+    let variation = match &v["variation"] {
+        serde_json::Value::Null => None,
+        x => Some(
+            x.as_f64()
+                .map(|x| x as f32)
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| bad("request: \"variation\" must be a number".into()))?,
+        ),
+    };
+    let dna = match &v["dna"] {
+        serde_json::Value::Null => None,
+        d => {
+            let rows = d
+                .as_array()
+                .ok_or_else(|| bad("request: \"dna\" must be a list of channel rows".into()))?;
+            let c = template.channel_count();
+            let mut one = template.clone();
+            let poses = rows
+                .iter()
+                .enumerate()
+                .map(|(i, r)| {
+                    one.motion = numbers(r, c).ok_or_else(|| {
+                        bad(format!(
+                            "request: \"dna\" pose {i} must be {c} finite channels"
+                        ))
+                    })?;
+                    Keyframe::from_bvh(&one, 0, 0).map(|k| super::dna_pose(&k))
+                })
+                .collect::<Result<Vec<_>>>()?;
+            (!poses.is_empty()).then_some(poses)
+        }
+    };
+    Ok(RequestDoc {
+        file,
+        method,
+        post: flag("post", true)?,
+        foot_lock: flag("footLock", false)?,
+        variation,
+        dna,
+    })
+}

@@ -192,28 +192,13 @@ impl Inbetweener {
             let poses = keys_from_channels(&self.inner.template, &frames_idx, dna_channels)?;
             Some(poses.iter().map(crate::motion::dna_pose).collect())
         };
-        let req = crate::motion::pipeline::Request {
+        self.run_model(
             keys,
             frames,
-            dna,
             post_process,
-            foot_lock: (post_process && foot_lock.unwrap_or(false))
-                .then(crate::motion::feet::FootLock::default),
+            dna,
             variation,
-        };
-        let now = || js_sys::Date::now();
-        let out = self.inner.synthesize(&req, &now).map_err(js_err)?;
-        let t = &out.times;
-        result_from(
-            &self.inner.template,
-            &out.motion,
-            vec![t.generator_ms, t.rcfk_ms, t.path_ms, t.post_ms],
-            vec![
-                out.key_error_raw.root,
-                out.key_error_raw.local,
-                out.key_error.root,
-                out.key_error.local,
-            ],
+            foot_lock.unwrap_or(false),
         )
     }
 
@@ -343,22 +328,8 @@ impl Inbetweener {
         frames: usize,
         variation: Option<f32>,
     ) -> Result<InbetweenResult, JsError> {
-        let r = self
-            .residual
-            .as_ref()
-            .ok_or_else(|| JsError::new("the residual network is not loaded (setResidual)"))?;
         let keys = keys_from_channels(&self.inner.template, key_frames, key_channels)?;
-        let t0 = js_sys::Date::now();
-        let m = r
-            .synthesize(&keys, frames, variation.unwrap_or(1.0))
-            .map_err(js_err)?;
-        let ms = js_sys::Date::now() - t0;
-        result_from(
-            &self.inner.template,
-            &m,
-            vec![ms, 0.0, 0.0, 0.0],
-            vec![0.0; 4],
-        )
+        self.run_residual(&keys, frames, variation)
     }
 
     /// The SLERP+LERP baseline on the same inputs (labelled as such in UIs).
@@ -369,8 +340,103 @@ impl Inbetweener {
         frames: usize,
     ) -> Result<InbetweenResult, JsError> {
         let keys = keys_from_channels(&self.inner.template, key_frames, key_channels)?;
+        self.run_slerp(&keys, frames)
+    }
+
+    /// Runs a whole request given as JSON (`motion::keys::RequestDoc`):
+    /// `{"frames": N, "keys": [...], "method": "model" | "residual" |
+    /// "slerp", "post", "footLock", "variation", "dna"}`, where each key is
+    /// a whole pose (`{"frame", "channels"}`), the root's position only
+    /// (`{"frame", "root": [x, y, z]}`) or 2-D joints (`{"frame", "xy",
+    /// "root"}`), as in keys files.
+    #[wasm_bindgen(js_name = synthesizeRequest)]
+    pub fn synthesize_request(&self, request: &str) -> Result<InbetweenResult, JsError> {
+        let doc = crate::motion::keys::request_from_json(request, &self.inner.template)
+            .map_err(js_err)?;
+        let frames = doc
+            .file
+            .frames
+            .ok_or_else(|| JsError::new("request: \"frames\" is required"))?;
+        let keys = doc.file.keys;
+        match doc.method.as_str() {
+            "slerp" => self.run_slerp(&keys, frames),
+            "residual" => self.run_residual(&keys, frames, doc.variation),
+            _ => self.run_model(
+                keys,
+                frames,
+                doc.post,
+                doc.dna,
+                doc.variation,
+                doc.foot_lock,
+            ),
+        }
+    }
+}
+
+impl Inbetweener {
+    fn run_model(
+        &self,
+        keys: Vec<crate::motion::Keyframe>,
+        frames: usize,
+        post_process: bool,
+        dna: Option<Vec<Vec<f32>>>,
+        variation: Option<f32>,
+        foot_lock: bool,
+    ) -> Result<InbetweenResult, JsError> {
+        let req = crate::motion::pipeline::Request {
+            keys,
+            frames,
+            dna,
+            post_process,
+            foot_lock: (post_process && foot_lock).then(crate::motion::feet::FootLock::default),
+            variation,
+        };
+        let now = || js_sys::Date::now();
+        let out = self.inner.synthesize(&req, &now).map_err(js_err)?;
+        let t = &out.times;
+        result_from(
+            &self.inner.template,
+            &out.motion,
+            vec![t.generator_ms, t.rcfk_ms, t.path_ms, t.post_ms],
+            vec![
+                out.key_error_raw.root,
+                out.key_error_raw.local,
+                out.key_error.root,
+                out.key_error.local,
+            ],
+        )
+    }
+
+    fn run_residual(
+        &self,
+        keys: &[crate::motion::Keyframe],
+        frames: usize,
+        variation: Option<f32>,
+    ) -> Result<InbetweenResult, JsError> {
+        let r = self
+            .residual
+            .as_ref()
+            .ok_or_else(|| JsError::new("the residual network is not loaded (setResidual)"))?;
         let t0 = js_sys::Date::now();
-        let m = crate::motion::baseline::slerp_lerp(&keys, frames).map_err(js_err)?;
+        let m = r
+            .synthesize(keys, frames, variation.unwrap_or(1.0))
+            .map_err(js_err)?;
+        let ms = js_sys::Date::now() - t0;
+        result_from(
+            &self.inner.template,
+            &m,
+            vec![ms, 0.0, 0.0, 0.0],
+            vec![0.0; 4],
+        )
+    }
+
+    fn run_slerp(
+        &self,
+        keys: &[crate::motion::Keyframe],
+        frames: usize,
+    ) -> Result<InbetweenResult, JsError> {
+        let t0 = js_sys::Date::now();
+        let m = crate::motion::baseline::slerp_lerp(keys, frames).map_err(js_err)?;
         let ms = js_sys::Date::now() - t0;
         result_from(
             &self.inner.template,

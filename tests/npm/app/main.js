@@ -90,10 +90,22 @@ try {
     if (out.frames !== n) throw new Error(`synthesizeFromBvh on ${cfg.clip}: ${out.frames} frames, the clip has ${n}`);
     cmu = `CMU ${cfg.clip} (${n} frames) in-betweened`;
   }
+  // keys of other kinds (issue 20): a path of root-only keys after a whole pose; the
+  // output's root passes through each, and a bad key is an error that names it
+  const path = [[0, 56, 0], [40, 56, 60], [100, 56, 90]];
+  const rootKeys = await client.synthesize({ frames: 181, keys: [
+    { frame: 0, channels: row.map((v, i) => (i === 1 ? 56 : v)) },
+    ...path.slice(1).map((root, i) => ({ frame: 90 * (i + 1), root })) ] });
+  for (const [i, p] of path.entries()) {
+    const at = rootKeys.positions.subarray(90 * i * 3 * client.skeleton.names.length, 90 * i * 3 * client.skeleton.names.length + 3);
+    if (Math.hypot(at[0] - p[0], at[1] - p[1], at[2] - p[2]) > 1e-3) throw new Error(`root key ${i}: ${Array.from(at)} vs ${p}`);
+  }
+  const badKey = await client.synthesize({ frames: 60, keys: [{ frame: 0, root: [0, 56] }] }).then(() => null, (e) => e);
+  if (badKey?.code !== 'E_BAD_KEYS' || !/key 0/.test(badKey.message)) throw new Error(`a bad root key: ${badKey?.code} ${badKey?.message}`);
   let code = null;
   await client.importBvh(new TextEncoder().encode('HIERARCHY\nnot a bvh')).catch((e) => { code = e.code; });
   if (r.frames !== 60 || clip.frameCount !== 2 || code !== 'E_BAD_BVH') throw new Error(`unexpected: ${r.frames} ${clip.frameCount} ${code}`);
-  document.getElementById('out').textContent = `deeprep ${version()} 6d ${Array.from(sixd)}; synthesized ${r.frames} frames; a 120 fps clip in-betweened (${fromClip.frames} frames); ${cmu}; three.js: ${compared} tracks as BVHLoader's (max difference ${worst.toExponential(1)}), played; bad BVH -> ${code}; missing models -> ${missing}; abort -> ${aborted}, then ${after.frames} frames`;
+  document.getElementById('out').textContent = `deeprep ${version()} 6d ${Array.from(sixd)}; synthesized ${r.frames} frames; a 120 fps clip in-betweened (${fromClip.frames} frames); ${cmu}; three.js: ${compared} tracks as BVHLoader's (max difference ${worst.toExponential(1)}), played; root-only keys hit; bad BVH -> ${code}; missing models -> ${missing}; abort -> ${aborted}, then ${after.frames} frames`;
   document.body.dataset.done = '1';
 } catch (e) {
   document.body.dataset.error = `${e.code || ''} ${e.message}`;
