@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Full benchmarks: in-betweening per stage natively (release) and in headless
 # Chromium (wasm), 512-4096 frames, with the SLERP+LERP baseline beside them;
+# tract against onnxruntime-web on every bundled model in one page;
 # then the mesh autoencoder's encode/decode with tract (native, as exported
 # and with its kernels multiplied out at load), onnxruntime, and in Chromium;
 # then HairNet's Table 3.3 columns natively and in Chromium; then the npm
@@ -12,6 +13,8 @@ export PATH="$HOME/.cargo/bin:$PATH"
 cargo bench --bench inbetween
 bash scripts/build-wasm.sh >/dev/null
 node tests/web/bench_page.mjs
+# tract against onnxruntime-web on every bundled model, side by side in one page
+node tests/web/bench_ort_page.mjs
 cargo bench --bench mesh
 .venv/bin/python train/bench_mesh_ort.py
 node tests/web/bench_mesh_page.mjs

@@ -32,6 +32,7 @@ section "wasm: wasm-bindgen-test in headless Chromium"
 section "bench: smoke runs (one 512-frame in-betweening, one mesh encode/decode, one hair reconstruction; full run: bash scripts/bench.sh)"
 DEEPREP_BENCH_SMOKE=1 cargo test --bench inbetween
 node tests/web/bench_page.mjs --smoke
+node tests/web/bench_ort_page.mjs --smoke
 DEEPREP_BENCH_SMOKE=1 cargo test --bench mesh
 node tests/web/bench_mesh_page.mjs --smoke
 DEEPREP_BENCH_SMOKE=1 cargo test --bench hair

@@ -20,11 +20,66 @@ impl OnnxModel {
         })
     }
 
+    /// Parses a model whose weights come as factors (`MatMul` of two
+    /// initializers, the mesh autoencoder's W = A·B) and multiplies them
+    /// out once, as `MeshCodec` does (`Model::from_onnx_bytes_folding_factors`).
+    #[wasm_bindgen(js_name = withFoldedFactors)]
+    pub fn with_folded_factors(bytes: &[u8]) -> Result<OnnxModel, JsError> {
+        Ok(OnnxModel {
+            inner: Model::from_onnx_bytes_folding_factors(bytes)
+                .map_err(js_err)?
+                .0,
+        })
+    }
+
     /// Runs a single-input model; returns its first output, flattened.
     pub fn run(&self, input: &[f32], shape: &[u32]) -> Result<Vec<f32>, JsError> {
         let t = TensorF32::new(input.to_vec(), shape.iter().map(|d| *d as usize).collect())
             .map_err(js_err)?;
         let mut out = self.inner.run(&[t]).map_err(js_err)?;
+        if out.is_empty() {
+            return Err(JsError::new("model produced no output"));
+        }
+        Ok(out.swap_remove(0).data)
+    }
+
+    /// Runs a model of any number of inputs: their values one after the
+    /// other in `data`, their shapes one after the other in `shapes`, and
+    /// each shape's rank in `ranks`. Returns the first output, flattened.
+    #[wasm_bindgen(js_name = runInputs)]
+    pub fn run_inputs(
+        &self,
+        data: &[f32],
+        shapes: &[u32],
+        ranks: &[u32],
+    ) -> Result<Vec<f32>, JsError> {
+        let mut inputs = Vec::with_capacity(ranks.len());
+        let (mut at, mut dim) = (0usize, 0usize);
+        for &r in ranks {
+            let shape: Vec<usize> = shapes
+                .get(dim..dim + r as usize)
+                .ok_or_else(|| {
+                    JsError::new("runInputs: the ranks ask for more dimensions than shapes has")
+                })?
+                .iter()
+                .map(|&d| d as usize)
+                .collect();
+            dim += r as usize;
+            let n = shape.iter().try_fold(1usize, |n, &d| n.checked_mul(d));
+            let values = n
+                .and_then(|n| data.get(at..at.checked_add(n)?))
+                .ok_or_else(|| {
+                    JsError::new("runInputs: the shapes ask for more values than data has")
+                })?;
+            at += values.len();
+            inputs.push(TensorF32::new(values.to_vec(), shape).map_err(js_err)?);
+        }
+        if at != data.len() || dim != shapes.len() {
+            return Err(JsError::new(
+                "runInputs: data or shapes left over after the inputs",
+            ));
+        }
+        let mut out = self.inner.run(&inputs).map_err(js_err)?;
         if out.is_empty() {
             return Err(JsError::new("model produced no output"));
         }

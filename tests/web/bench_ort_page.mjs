@@ -1,0 +1,73 @@
+// Side by side in one headless Chromium page (one thread, wasm SIMD, the
+// same ONNX files and inputs): tract (deeprep's wasm, OnnxModel) against
+// onnxruntime-web (its wasm backend, numThreads = 1), on every bundled
+// model. Prints JSON: per case the best of N runs after one warm-up run
+// (which builds tract's plan), the ratio tract / onnxruntime-web, and the
+// largest difference between their outputs.
+// Usage: node tests/web/bench_ort_page.mjs [--smoke]
+import { launch, startServer } from './chromium.mjs';
+
+const smoke = process.argv.includes('--smoke');
+// [name, model file, inputs {name: shape}, input value range, fold factors]
+const CASES = [
+  ['rot6d_autoencoder', 'rot6d_autoencoder', { matrix_in: [64, 9] }],
+  ['ik, batch 64', 'ik', { positions: [64, 171] }],
+  ['hair_features, 256x256', 'hair_features', { image: [1, 3, 256, 256] }, [0, 1]],
+  ['hair_strands, 1,024 strands', 'hair_strands', { features: [1, 64, 1024, 1] }],
+  ['mesh_encoder', 'mesh_encoder', { positions: [1, 1820, 3] }, [-1, 1], true],
+  ['mesh_decoder', 'mesh_decoder', { latent: [1, 8, 16] }, [-1, 1], true],
+  ['tween_path, 512 frames', 'tween_path', { local: [1, 171, 512] }],
+  ['tween_path, 2048 frames', 'tween_path', { local: [1, 171, 2048] }],
+  ['tween_generator, 512 frames', 'tween_generator', { dense: [1, 342, 512], dense_rot: [1, 264, 512], dna: [1, 8, 171] }],
+  ['tween_generator, 2048 frames', 'tween_generator', { dense: [1, 342, 2048], dense_rot: [1, 264, 2048], dna: [1, 11, 171] }],
+  ['tween_residual, 512 frames', 'tween_residual', { x: [1, 265, 512] }],
+  ['tween_residual, 2048 frames', 'tween_residual', { x: [1, 265, 2048] }],
+];
+const cases = smoke ? CASES.filter(([n]) => ['rot6d_autoencoder', 'tween_generator, 512 frames'].includes(n)) : CASES;
+const server = await startServer();
+const browser = await launch();
+try {
+  const page = await browser.context.newPage();
+  await page.goto(`${server.url}/web/rotations.html`);
+  await page.waitForSelector('body[data-ready="1"]', { timeout: 120_000 });
+  const rows = await page.evaluate(async ({ cases, reps }) => {
+    const m = await import('./pkg/deeprep.js');
+    const ort = await import('../node_modules/onnxruntime-web/dist/ort.wasm.min.mjs');
+    ort.env.wasm.numThreads = 1;
+    ort.env.wasm.wasmPaths = new URL('../node_modules/onnxruntime-web/dist/', location.href).href;
+    let seed = 12345;
+    const rand = () => { seed = (seed * 1103515245 + 12345) >>> 0; return seed / 2 ** 32; };
+    const best = async (f) => { await f(); let b = Infinity; for (let r = 0; r < reps; r++) { const t = performance.now(); await f(); b = Math.min(b, performance.now() - t); } return b; };
+    const out = [];
+    for (const [name, file, inputs, range = [-1, 1], fold = false] of cases) {
+      const bytes = new Uint8Array(await (await fetch(`../models/onnx/${file}.onnx`)).arrayBuffer());
+      const feeds = {}, data = [], shapes = [], ranks = [];
+      for (const [k, shape] of Object.entries(inputs)) {
+        const n = shape.reduce((a, b) => a * b, 1);
+        const v = new Float32Array(n);
+        for (let i = 0; i < n; i++) v[i] = range[0] + (range[1] - range[0]) * rand();
+        feeds[k] = new ort.Tensor('float32', v, shape);
+        data.push(v); shapes.push(...shape); ranks.push(shape.length);
+      }
+      const flat = new Float32Array(data.reduce((a, v) => a + v.length, 0));
+      data.reduce((at, v) => { flat.set(v, at); return at + v.length; }, 0);
+      const tract = fold ? m.OnnxModel.withFoldedFactors(bytes) : new m.OnnxModel(bytes);
+      const session = await ort.InferenceSession.create(bytes, { executionProviders: ['wasm'], graphOptimizationLevel: 'all' });
+      let a, b;
+      const tractMs = await best(() => { a = tract.runInputs(flat, new Uint32Array(shapes), new Uint32Array(ranks)); });
+      const ortMs = await best(async () => { b = (await session.run(feeds))[session.outputNames[0]].data; });
+      let diff = 0;
+      for (let i = 0; i < a.length; i++) diff = Math.max(diff, Math.abs(a[i] - b[i]));
+      out.push({ model: name, tract_ms: +tractMs.toFixed(2), onnxruntime_web_ms: +ortMs.toFixed(2),
+                 ratio: +(tractMs / ortMs).toFixed(2), max_output_difference: diff, outputs: a.length === b.length ? a.length : `${a.length} vs ${b.length}` });
+      tract.free();
+      await session.release();
+    }
+    return out;
+  }, { cases, reps: smoke ? 1 : 5 });
+  console.log(JSON.stringify({ bench: 'tract_vs_onnxruntime_web', target: 'headless Chromium, wasm SIMD, one thread',
+                               onnxruntime_web: '1.30.0', rows }, null, 1));
+} finally {
+  await browser.close();
+  await server.close();
+}
