@@ -13,7 +13,7 @@ const $ = (id) => document.getElementById(id);
 const state = {
   skeleton: null,      // { header, names, parents, channels }
   library: [],         // [{ name, channels }]
-  keys: [],            // [{ frame, channels }], sorted by frame
+  keys: [],            // [{ frame, channels }] (a pose) or [{ frame, root }] (a root-only key), sorted by frame
   length: 300,
   frame: 0,
   playing: false,
@@ -115,15 +115,21 @@ function currentPose() {
 
 function nearestKey(frame) {
   let best = null;
-  for (const k of state.keys) if (!best || Math.abs(k.frame - frame) < Math.abs(best.frame - frame)) best = k;
+  for (const k of state.keys.filter((x) => x.channels)) if (!best || Math.abs(k.frame - frame) < Math.abs(best.frame - frame)) best = k;
   return best;
 }
 
+// Dots on the ground: the synthesized root path, and the root-only keys
+// (a short cross of dots each, so they show before any synthesis).
 function trajectory() {
-  if (!state.result) return new Float32Array(0);
-  const J = state.skeleton.names.length;
   const out = [];
-  for (let f = 0; f < state.result.frames; f += 3) out.push(state.result.positions[f * J * 3], 0, state.result.positions[f * J * 3 + 2]);
+  for (const k of state.keys.filter((x) => x.root)) {
+    for (let d = -6; d <= 6; d += 3) out.push(k.root[0] + d, 0, k.root[2], k.root[0], 0, k.root[2] + d);
+  }
+  if (state.result) {
+    const J = state.skeleton.names.length;
+    for (let f = 0; f < state.result.frames; f += 3) out.push(state.result.positions[f * J * 3], 0, state.result.positions[f * J * 3 + 2]);
+  }
   return new Float32Array(out);
 }
 
@@ -132,8 +138,9 @@ function draw() {
   if (state.view.lost && state.view.lost()) { replaceLostView(); return; }
   $('frame-label').textContent = `${state.frame} / ${state.length}`;
   if (!state.skeleton) return;
-  const keys = state.keys.map((k) => fk(k.channels));
-  state.view.draw({ pose: currentPose(), keys, trajectory: trajectory(), selected: state.selected });
+  const poseKeys = state.keys.filter((k) => k.channels);
+  const keys = poseKeys.map((k) => fk(k.channels));
+  state.view.draw({ pose: currentPose(), keys, keyFrames: poseKeys.map((k) => k.frame), trajectory: trajectory(), selected: state.selected });
 }
 
 // ---------------------------------------------------------------- views
@@ -157,6 +164,8 @@ function gpuView(viewer, canvas) {
     orbit: (dx, dy) => viewer.orbit(dx, dy),
     pan: (dx, dy) => viewer.pan(dx, dy),
     zoom: (f) => viewer.zoom(f),
+    // Where pixel (x, y) looks at the ground, or null.
+    groundPoint(x, y) { const p = viewer.groundPoint(x, y); return p.length ? p : null; },
     groundDelta(x0, y0, x1, y1) {
       const a = viewer.groundPoint(x0, y0), b = viewer.groundPoint(x1, y1);
       return a.length && b.length ? [b[0] - a[0], b[2] - a[2]] : [0, 0];
@@ -218,7 +227,7 @@ function canvasView(canvas) {
   const scale = () => cam.dist / (canvas.height * 1.3);
   return {
     name: '2d',
-    draw({ pose, keys, trajectory: traj, selected }) {
+    draw({ pose, keys, keyFrames, trajectory: traj, selected }) {
       ctx.fillStyle = '#0b0e11';
       ctx.fillRect(0, 0, canvas.width, canvas.height);
       const proj = camera(canvas);
@@ -236,7 +245,7 @@ function canvasView(canvas) {
         ctx.fillStyle = `hsl(${200 + (120 * i) / traj.length}, 70%, 60%)`;
         ctx.fillRect(p[0] - 1.5, p[1] - 1.5, 3, 3);
       }
-      keys.forEach((k, i) => drawSkeleton(ctx, proj, k, '#f273a6', 3, state.keys[i].frame === state.frame ? 0.9 : 0.35, -1));
+      keys.forEach((k, i) => drawSkeleton(ctx, proj, k, '#f273a6', 3, keyFrames[i] === state.frame ? 0.9 : 0.35, -1));
       if (pose) drawSkeleton(ctx, proj, pose, '#8fd0ff', 4, 1, selected);
     },
     pick(x, y) {
@@ -253,6 +262,7 @@ function canvasView(canvas) {
     orbit(dx, dy) { cam.yaw -= dx * 0.008; cam.pitch = Math.max(-0.2, Math.min(1.4, cam.pitch + dy * 0.008)); },
     pan(dx, dy) { const s = scale(); cam.target[0] -= s * dx * Math.cos(cam.yaw); cam.target[2] += s * dx * Math.sin(cam.yaw); cam.target[1] += s * dy; },
     zoom(f) { cam.dist = Math.max(80, Math.min(3000, cam.dist * f)); },
+    groundPoint: () => null, // the 2-D fallback has no ray casting: no root paths
     groundDelta(x0, y0, x1, y1) {
       const s = scale(), dx = x1 - x0, dy = y1 - y0, { yaw } = cam;
       return [s * (dx * Math.cos(yaw) + dy * Math.sin(yaw)), s * (-dx * Math.sin(yaw) + dy * Math.cos(yaw))];
@@ -292,7 +302,8 @@ function refreshTimeline() {
   for (const k of state.keys) {
     const s = document.createElement('span');
     s.style.left = `${(100 * k.frame) / Math.max(1, state.length - 1)}%`;
-    s.title = `key at frame ${k.frame}`;
+    s.title = k.root ? `root key at frame ${k.frame}` : `key at frame ${k.frame}`;
+    if (k.root) s.classList.add('root');
     s.onclick = () => setFrame(k.frame);
     marks.appendChild(s);
   }
@@ -313,7 +324,7 @@ function addKey() {
   if (!pose) return;
   pushHistory();
   const existing = keyAt(state.frame);
-  if (existing) existing.channels = pose.channels.slice();
+  if (existing) { existing.channels = pose.channels.slice(); delete existing.root; }
   else state.keys.push({ frame: state.frame, channels: pose.channels.slice() });
   refreshTimeline();
   draw();
@@ -332,7 +343,7 @@ function deleteKey() {
 async function refreshJointEditor() {
   const k = keyAt(state.frame);
   const box = $('joint-edit');
-  if (!k || state.selected <= 0 || !state.client?.hasModel) { box.hidden = true; return; }
+  if (!k?.channels || state.selected <= 0 || !state.client?.hasModel) { box.hidden = true; return; }
   try {
     const a = await state.client.rcAngles(k.channels, state.selected);
     $('joint-name').textContent = state.skeleton.names[state.selected];
@@ -349,7 +360,7 @@ async function refreshJointEditor() {
 
 async function onAngleInput() {
   const k = keyAt(state.frame);
-  if (!k || state.selected <= 0) return;
+  if (!k?.channels || state.selected <= 0) return;
   const angles = ['ax', 'ay', 'az'].map((id) => Number($(id).value));
   try {
     k.channels = await state.client.setRcAngles(k.channels, state.selected, angles);
@@ -359,6 +370,8 @@ async function onAngleInput() {
 
 // ---------------------------------------------------------------- synthesis
 function mulberry32(a) { return () => { a |= 0; a = (a + 0x6d2b79f5) | 0; let t = Math.imul(a ^ (a >>> 15), 1 | a); t = (t + Math.imul(t ^ (t >>> 7), 61 | t)) ^ t; return ((t ^ (t >>> 14)) >>> 0) / 4294967296; }; }
+
+const chunk = (flat, n) => Array.from({ length: flat.length / n }, (_, i) => flat.slice(i * n, (i + 1) * n));
 
 function dnaChannels() {
   const picked = [...$('dna').selectedOptions].map((o) => state.library[Number(o.value)]);
@@ -376,15 +389,22 @@ async function synthesize() {
   if (length !== state.length) { pushHistory(); state.length = length; refreshTimeline(); }
   const keys = state.keys.filter((k) => k.frame < length);
   if (!keys.length) { setStatus('add at least one keyframe first', true); return; }
+  const rootKeys = keys.some((k) => k.root);
+  if (rootKeys && (!state.client.hasModel || $('method').value !== 'model')) {
+    setStatus('root-path keys need the Generative Tweening model (interpolation needs whole poses)', true);
+    return;
+  }
   const method = state.client.hasModel ? $('method').value : 'slerp';
   $('synth').disabled = true;
   $('progress').value = 0;
   try {
     const t0 = performance.now();
-    const r = await state.client.synthesize({
-      keyFrames: keys.map((k) => k.frame), keyChannels: keys.flatMap((k) => k.channels),
-      frames: length, post: $('post').checked, footLock: $('footlock').checked, dna: dnaChannels(), method, variation: Number($('variation').value),
-    });
+    const common = { frames: length, post: $('post').checked, footLock: $('footlock').checked, method, variation: Number($('variation').value) };
+    const r = rootKeys
+      // keys of both kinds in the request form (motion::keys), DNA as rows
+      ? await state.client.synthesize({ ...common, keys: keys.map((k) => (k.root ? { frame: k.frame, root: k.root } : { frame: k.frame, channels: k.channels })),
+                                       dna: chunk(dnaChannels(), state.skeleton.channels) })
+      : await state.client.synthesize({ ...common, keyFrames: keys.map((k) => k.frame), keyChannels: keys.flatMap((k) => k.channels), dna: dnaChannels() });
     state.result = { positions: r.positions, frames: r.frames, bvh: r.bvh, method, times: r.times };
     $('method-badge').textContent = { slerp: 'SLERP+LERP interpolation baseline', residual: 'supervised residual network' }[method] || 'Generative Tweening model';
     $('method-badge').classList.toggle('baseline', method === 'slerp');
@@ -454,13 +474,32 @@ const toCanvas = (e) => { const c = $('view'); const r = c.getBoundingClientRect
 function wireCanvas(canvas) {
   canvas.addEventListener('mousedown', (e) => {
     const [x, y] = toCanvas(e);
+    if ($('path-mode').checked && !e.shiftKey) { dropRootKey(x, y); return; }
     const hit = currentPose() ? state.view.pick(x, y) : -1;
     if (hit >= 0) { state.selected = hit; refreshJointEditor(); draw(); }
     const k = keyAt(state.frame);
-    drag = { x, y, moveRoot: hit === 0 && !!k, pushed: false, pan: e.shiftKey,
-             joint: hit > 0 && !!k && !e.shiftKey ? { index: hit, key: k, positions: Float32Array.from(fk(k.channels)), moved: false } : null };
+    drag = { x, y, moveRoot: hit === 0 && !!k?.channels, pushed: false, pan: e.shiftKey,
+             joint: hit > 0 && !!k?.channels && !e.shiftKey ? { index: hit, key: k, positions: Float32Array.from(fk(k.channels)), moved: false } : null };
   });
   canvas.addEventListener('wheel', (e) => { e.preventDefault(); state.view.zoom(Math.exp(e.deltaY * 0.001)); draw(); }, { passive: false });
+}
+
+// Path mode (Sec. 5.4.1): the clicked ground point becomes a root-only key
+// at the current frame, at the height of the pose keys' root (or the
+// library's first pose), and the frame moves on by the path step.
+function dropRootKey(x, y) {
+  const p = state.view.groundPoint(x, y);
+  if (!p) { setStatus(state.view.name === '2d' ? 'root paths need the WebGPU or WebGL2 view' : 'click on the ground to place the root', true); return; }
+  const pose = nearestKey(state.frame)?.channels || state.library[0]?.channels;
+  const height = pose ? pose[1] : 56;
+  pushHistory();
+  const frame = state.frame, k = keyAt(frame);
+  if (k && k.channels) { k.channels[0] = p[0]; k.channels[2] = p[2]; } // a pose key moves there instead
+  else if (k) k.root = [p[0], height, p[2]];
+  else state.keys.push({ frame, root: [p[0], height, p[2]] });
+  refreshTimeline();
+  setFrame(Math.min(state.length - 1, frame + (Number($('path-step').value) || 60)));
+  setStatus(`root at (${p[0].toFixed(0)}, ${p[2].toFixed(0)}) on the ground at frame ${frame}`);
 }
 
 function subtree(j) {

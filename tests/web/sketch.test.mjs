@@ -201,3 +201,40 @@ test('sketch page: a hostile BVH import fails cleanly and synthesis still works'
   assert.equal(await page.textContent('#method-badge'), 'supervised residual network');
   assert.deepEqual(errors, []);
 });
+
+test('sketch page: a root path drawn on the ground (root-only keys, Sec. 5.4.1)', async () => {
+  const page = await browser.context.newPage();
+  const errors = watchErrors(page);
+  await page.goto(`${server.url}/web/index.html?webgl2`);
+  await page.waitForSelector('body[data-ready="1"]', { timeout: 120_000 });
+  // keep the first whole-pose key (frame 0), drop the others, then click the
+  // ground at three places 60 frames apart with the path tool
+  await page.fill('#length', '300');
+  await page.dispatchEvent('#length', 'change');
+  const setFrame = (f) => page.$eval('#scrub', (el, f) => { el.max = '299'; el.value = String(f); el.dispatchEvent(new Event('input')); }, f);
+  for (const f of [150, 299]) { await setFrame(f); await page.click('#del-key'); }
+  await page.check('#path-mode');
+  await setFrame(60);
+  const box = await page.locator('#view').boundingBox();
+  const clicks = [[0.35, 0.8], [0.5, 0.85], [0.65, 0.8]];
+  for (const [fx, fy] of clicks) await page.mouse.click(box.x + fx * box.width, box.y + fy * box.height);
+  const keys = await page.evaluate(() => window.deeprepState.keys.map((k) => ({ frame: k.frame, root: k.root || null })));
+  assert.deepEqual(keys.map((k) => k.frame), [0, 60, 120, 180]);
+  assert.ok(keys.slice(1).every((k) => k.root && k.root.every(Number.isFinite)), JSON.stringify(keys));
+  await page.uncheck('#path-mode');
+  await page.click('#synth');
+  await page.waitForSelector('body[data-synthesized="300"]', { timeout: 120_000 });
+  // the synthesized root passes through every clicked point (post-processing on)
+  const worst = await page.evaluate(() => {
+    const s = window.deeprepState, J = s.skeleton.names.length;
+    let w = 0;
+    for (const k of s.keys.filter((x) => x.root)) {
+      const p = s.result.positions.subarray(k.frame * J * 3, k.frame * J * 3 + 3);
+      w = Math.max(w, Math.hypot(p[0] - k.root[0], p[1] - k.root[1], p[2] - k.root[2]));
+    }
+    return w;
+  });
+  assert.ok(worst < 1e-2, `the root misses a path key by ${worst}`);
+  assert.deepEqual(errors, []);
+  await page.close();
+});
