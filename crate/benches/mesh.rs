@@ -95,11 +95,39 @@ fn main() {
         }
     }
     let rows: Vec<_> = rows.into_iter().flatten().collect();
+    // Graph sampling of a mesh of any topology (issue 25): a 230 × 230 grid
+    // of quads (52,900 vertices), welded, joined and sampled down to at
+    // most 12 vertices, as `deeprep mesh topology` does for an OBJ file.
+    let n = if smoke { 40 } else { 230 };
+    let positions: Vec<[f32; 3]> = (0..n * n)
+        .map(|i| [(i % n) as f32, (i / n) as f32, 0.0])
+        .collect();
+    let mut triangles = Vec::new();
+    for y in 0..n - 1 {
+        for x in 0..n - 1 {
+            let v = |x: usize, y: usize| y * n + x;
+            triangles.push([v(x, y), v(x + 1, y), v(x + 1, y + 1)]);
+            triangles.push([v(x, y), v(x + 1, y + 1), v(x, y + 1)]);
+        }
+    }
+    let t0 = std::time::Instant::now();
+    let params = deeprep::mesh::Params::for_mesh(&positions);
+    let topo = deeprep::mesh::Topology::from_mesh(&positions, &triangles, &params, &[])
+        .expect("grid topology");
+    let topology = serde_json::json!({
+        "vertices": positions.len(),
+        "levels": std::iter::once(topo.rest.len())
+            .chain(topo.levels.iter().map(|l| l.selected.len()))
+            .collect::<Vec<_>>(),
+        "ms": t0.elapsed().as_secs_f64() * 1e3,
+    });
     println!(
         "{}",
-        serde_json::to_string_pretty(
-            &serde_json::json!({"tract_mesh_autoencoder": rows, "threads": 1})
-        )
+        serde_json::to_string_pretty(&serde_json::json!({
+            "tract_mesh_autoencoder": rows,
+            "threads": 1,
+            "mesh_topology_of_a_grid": topology
+        }))
         .unwrap()
     );
 }

@@ -531,3 +531,172 @@ fn the_robot_reconstructs_and_one_latent_vertex_edits_locally() {
         );
     }
 }
+
+/// An OBJ of a `w × h` vertex grid of quads (z = 0), shifted by `dx`.
+fn grid_obj(w: usize, h: usize, dx: f32, first: usize) -> String {
+    let mut s = String::new();
+    for y in 0..h {
+        for x in 0..w {
+            s += &format!("v {} {} 0\n", x as f32 + dx, y as f32);
+        }
+    }
+    for y in 0..h - 1 {
+        for x in 0..w - 1 {
+            let v = |x: usize, y: usize| first + y * w + x + 1;
+            s += &format!(
+                "f {} {} {} {}\n",
+                v(x, y),
+                v(x + 1, y),
+                v(x + 1, y + 1),
+                v(x, y + 1)
+            );
+        }
+    }
+    s
+}
+
+#[test]
+fn obj_files_read_strictly() {
+    use deeprep::mesh::obj::parse;
+    // a pentagon fan, corners with texture/normal indices, a negative index
+    let m = parse("# a comment\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0.5 1.5 0\nv 0 1 0\nvn 0 0 1\nf 1/1/1 2//1 3 4 -1\n").unwrap();
+    assert_eq!(m.positions.len(), 5);
+    assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3], [0, 3, 4]]);
+    for (bad, says) in [
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", "line 4"),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "index 0"),
+        ("v 0 0 nan\n", "line 1"),
+        ("v 0 0\n", "line 1"),
+        ("v 0 0 0\nv 1 0 0\nf 1 2\n", "three corners"),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\n", "no faces"),
+        ("f 1 2 3\n", "outside the 0 vertices"),
+        ("", "no vertices"),
+    ] {
+        let e = parse(bad).unwrap_err().to_string();
+        assert!(e.contains(says), "{bad:?}: {e}");
+    }
+}
+
+#[test]
+fn any_mesh_gets_a_topology() {
+    use deeprep::mesh::{obj::parse, Params, Topology};
+    let topo = |obj: &str| {
+        let m = parse(obj).unwrap();
+        Topology::from_mesh(
+            &m.positions,
+            &m.triangles,
+            &Params::for_mesh(&m.positions),
+            &[],
+        )
+    };
+    let levels = |t: &Topology| -> Vec<usize> {
+        std::iter::once(t.rest.len())
+            .chain(t.levels.iter().map(|l| l.selected.len()))
+            .collect()
+    };
+    // two separate sheets: joined by added edges into one graph, sampled down
+    let two = format!(
+        "{}{}",
+        grid_obj(12, 12, 0.0, 0),
+        grid_obj(12, 12, 11.5, 144)
+    );
+    let t = topo(&two).unwrap();
+    assert_eq!(t.rest.len(), 288);
+    assert!(!t.added_edges.is_empty());
+    assert_eq!(
+        t.graph.components().iter().max(),
+        Some(&0),
+        "one piece after joining"
+    );
+    assert!(*levels(&t).last().unwrap() <= 12, "{:?}", levels(&t));
+    // non-manifold: three quads sharing one edge (Fig. 2.9's kind), plus an
+    // isolated vertex and a degenerate triangle
+    let fan = "v 0 0 0\nv 0 1 0\nv 1 0 0\nv 1 1 0\nv -1 0 0\nv -1 1 0\nv 0 0 1\nv 0 1 1\nv 5 5 5\n\
+               f 1 2 4 3\nf 1 2 6 5\nf 1 2 8 7\nf 3 3 4\n";
+    let t = topo(fan).unwrap();
+    assert_eq!(t.rest.len(), 9);
+    let on_edge = t
+        .triangles
+        .iter()
+        .filter(|t| t.contains(&0) && t.contains(&1))
+        .count();
+    assert_eq!(on_edge, 3, "one edge in three triangles (non-manifold)");
+    assert!(t
+        .triangles
+        .iter()
+        .all(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2]));
+    assert!(
+        !t.graph.neighbors(8).is_empty(),
+        "the isolated vertex is joined"
+    );
+    // a large mesh: 230 × 230 = 52,900 vertices
+    let big = grid_obj(230, 230, 0.0, 0);
+    let t0 = std::time::Instant::now();
+    let t = topo(&big).unwrap();
+    eprintln!(
+        "52,900-vertex grid: levels {:?} in {:.2} s (debug build)",
+        levels(&t),
+        t0.elapsed().as_secs_f64()
+    );
+    assert_eq!(t.rest.len(), 52_900);
+    assert!(*levels(&t).last().unwrap() <= 12, "{:?}", levels(&t));
+    // bad meshes are errors
+    assert!(Topology::from_mesh(&[], &[], &Params::for_mesh(&[]), &[]).is_err());
+    assert!(Topology::from_mesh(
+        &[[0.0; 3]; 3],
+        &[[0, 1, 3]],
+        &Params::for_mesh(&[[0.0; 3]; 3]),
+        &[]
+    )
+    .is_err());
+    assert!(Topology::from_mesh(
+        &[[f32::NAN, 0.0, 0.0]; 3],
+        &[[0, 1, 2]],
+        &Params::for_mesh(&[[0.0; 3]; 3]),
+        &[]
+    )
+    .is_err());
+}
+
+#[test]
+fn the_cli_writes_the_topology_of_an_obj_file() {
+    let dir = std::env::temp_dir().join(format!("deeprep-obj-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let obj = dir.join("sheet.obj");
+    std::fs::write(&obj, grid_obj(20, 20, 0.0, 0)).unwrap();
+    let out = dir.join("sheet.json");
+    let bin = env!("CARGO_BIN_EXE_deeprep");
+    let r = std::process::Command::new(bin)
+        .args([
+            "mesh",
+            "topology",
+            obj.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(doc["rest"].as_array().unwrap().len(), 400);
+    assert!(doc["levels"].as_array().unwrap().len() >= 3);
+    std::fs::write(&obj, "v 0 0 0\nf 1 2 3\n").unwrap();
+    let r = std::process::Command::new(bin)
+        .args([
+            "mesh",
+            "topology",
+            obj.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(!r.status.success());
+    assert!(
+        String::from_utf8_lossy(&r.stderr).contains("line 2"),
+        "{}",
+        String::from_utf8_lossy(&r.stderr)
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -1071,7 +1071,13 @@ fn requests_as_json_carry_method_options_and_dna() {
     assert_eq!(doc.dna.unwrap()[0].len(), 3 * tpl.joints.len());
     // defaults
     let doc = request_from_json(r#"{"keys": [{"frame": 0, "root": [0, 56, 0]}]}"#, tpl).unwrap();
-    assert!(doc.method == "model" && doc.post && !doc.foot_lock && doc.variation.is_none() && doc.dna.is_none());
+    assert!(
+        doc.method == "model"
+            && doc.post
+            && !doc.foot_lock
+            && doc.variation.is_none()
+            && doc.dna.is_none()
+    );
     for (bad, says) in [
         (r#"{"keys": [], "method": "fast"}"#, "\"method\""),
         (r#"{"keys": [], "post": 1}"#, "\"post\""),

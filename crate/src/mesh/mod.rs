@@ -4,6 +4,7 @@
 //! - [`codec`]: the exported autoencoder run by tract, and local latent edits.
 //! - [`graph`]: vertex graphs of meshes of any topology (manifold or not),
 //!   ring neighbourhoods and graph distances.
+//! - [`obj`]: Wavefront OBJ meshes (any topology) read strictly.
 //! - [`rig`]: a rigged glTF character posed on the CPU (rigid parts and
 //!   linear blend skinning, animations sampled at any time).
 //! - [`topology`]: a rig's welded, connected graph and its sampling levels.
@@ -14,6 +15,7 @@
 #[cfg(feature = "onnx")]
 pub mod codec;
 pub mod graph;
+pub mod obj;
 pub mod rig;
 pub mod sampling;
 pub mod topology;
@@ -23,4 +25,4 @@ pub use codec::MeshCodec;
 pub use graph::Graph;
 pub use rig::Rig;
 pub use sampling::{sample, NeighborTable, Sampling};
-pub use topology::{Topology, ROBOT_SEED_NODES};
+pub use topology::{Params, Topology, ROBOT_SEED_NODES};

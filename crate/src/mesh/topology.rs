@@ -10,7 +10,52 @@ use super::rig::Rig;
 use super::sampling::{sample, Sampling};
 use crate::error::{Error, Result};
 
-/// A rig's autoencoder topology.
+/// How a mesh is welded, joined and sampled.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Params {
+    /// Vertices closer than this are one (seams).
+    pub eps: f32,
+    /// Components whose closest vertices are this close get an edge.
+    pub near: f32,
+    /// Sampling stride s.
+    pub stride: usize,
+    /// Kernel radius r.
+    pub radius: usize,
+    /// Levels are added until at most this many vertices remain.
+    pub min_vertices: usize,
+}
+
+impl Params {
+    /// Settings for a mesh of any size: weld at 1e-6 and join pieces within
+    /// 1% of the bounding-box diagonal; s = 2, r = 2 (the robot's, Sec. 2.2.1)
+    /// down to at most 12 latent vertices, so the number of levels follows
+    /// the vertex count (about log2 of it over 2: each level keeps roughly a
+    /// quarter of a surface's vertices).
+    pub fn for_mesh(positions: &[[f32; 3]]) -> Params {
+        let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+        for p in positions {
+            for a in 0..3 {
+                lo[a] = lo[a].min(p[a]);
+                hi[a] = hi[a].max(p[a]);
+            }
+        }
+        let diag = (0..3).map(|a| (hi[a] - lo[a]).powi(2)).sum::<f32>().sqrt();
+        let diag = if diag.is_finite() && diag > 0.0 {
+            diag
+        } else {
+            1.0
+        };
+        Params {
+            eps: 1e-6 * diag,
+            near: 0.01 * diag,
+            stride: 2,
+            radius: 2,
+            min_vertices: 12,
+        }
+    }
+}
+
+/// A mesh's autoencoder topology.
 #[derive(Clone, Debug)]
 pub struct Topology {
     /// Welded index of every rig vertex.
@@ -78,38 +123,92 @@ impl Topology {
         seed_nodes: &[&str],
     ) -> Result<Topology> {
         let rest_all = rig.rest_pose()?;
-        let (weld_map, n) = weld(&rest_all, eps);
-        let mut rest = vec![[0.0f32; 3]; n];
-        for (v, &w) in weld_map.iter().enumerate() {
-            rest[w] = rest_all[v];
-        }
         let triangles: Vec<[usize; 3]> = rig
             .triangles
             .iter()
-            .map(|t| t.map(|i| weld_map[i as usize]))
+            .map(|t| t.map(|i| i as usize))
+            .collect();
+        let globals = rig.globals(&rig.rest);
+        let seeds = seed_nodes
+            .iter()
+            .map(|name| {
+                let node = rig
+                    .node_names
+                    .iter()
+                    .position(|n| n == name)
+                    .ok_or_else(|| {
+                        Error::Invalid(format!("mesh topology: no node named '{name}'"))
+                    })?;
+                Ok((name.to_string(), globals[node].w_axis.truncate().to_array()))
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let params = Params {
+            eps,
+            near,
+            stride,
+            radius,
+            min_vertices,
+        };
+        Topology::from_mesh(&rest_all, &triangles, &params, &seeds)
+    }
+
+    /// The topology of any triangle mesh (Sec. 2.3: sampling depends on
+    /// topology alone): several components, non-manifold edges and
+    /// vertices, isolated vertices and degenerate triangles are all taken.
+    /// `seeds` name points whose nearest vertices become latent vertices.
+    pub fn from_mesh(
+        positions: &[[f32; 3]],
+        triangles: &[[usize; 3]],
+        p: &Params,
+        seeds: &[(String, [f32; 3])],
+    ) -> Result<Topology> {
+        let Params {
+            eps,
+            near,
+            stride,
+            radius,
+            min_vertices,
+        } = *p;
+        if positions.is_empty() {
+            return Err(Error::Invalid("mesh topology: no vertices".into()));
+        }
+        crate::error::check_finite("mesh positions", positions.as_flattened())?;
+        if let Some(t) = triangles
+            .iter()
+            .find(|t| t.iter().any(|&i| i >= positions.len()))
+        {
+            return Err(Error::Invalid(format!(
+                "mesh topology: triangle {t:?} names a vertex outside 0..{}",
+                positions.len()
+            )));
+        }
+        let (weld_map, n) = weld(positions, eps);
+        let mut rest = vec![[0.0f32; 3]; n];
+        for (v, &w) in weld_map.iter().enumerate() {
+            rest[w] = positions[v];
+        }
+        let triangles: Vec<[usize; 3]> = triangles
+            .iter()
+            .map(|t| t.map(|i| weld_map[i]))
             .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
             .collect();
         let g = Graph::from_triangles(n, &triangles)?;
         let (graph, added_edges) = connect_components(&g, &rest, near)?;
-        // Seeds: the welded vertex nearest each named node's rest position.
-        let globals = rig.globals(&rig.rest);
-        let mut seeds = Vec::new();
-        for name in seed_nodes {
-            let node = rig
-                .node_names
-                .iter()
-                .position(|n| n == name)
-                .ok_or_else(|| Error::Invalid(format!("mesh topology: no node named '{name}'")))?;
-            let p = globals[node].w_axis.truncate();
-            let v = (0..n)
-                .min_by(|&a, &b| {
-                    let da = glam::Vec3::from(rest[a]).distance_squared(p);
-                    let db = glam::Vec3::from(rest[b]).distance_squared(p);
-                    da.total_cmp(&db)
-                })
-                .ok_or_else(|| Error::Invalid("mesh topology: no vertices".into()))?;
-            seeds.push((name.to_string(), v));
-        }
+        // Seeds: the welded vertex nearest each named point.
+        let seeds = seeds
+            .iter()
+            .map(|(name, p)| {
+                let p = glam::Vec3::from(*p);
+                let v = (0..n)
+                    .min_by(|&a, &b| {
+                        let da = glam::Vec3::from(rest[a]).distance_squared(p);
+                        let db = glam::Vec3::from(rest[b]).distance_squared(p);
+                        da.total_cmp(&db)
+                    })
+                    .unwrap_or(0);
+                (name.clone(), v)
+            })
+            .collect::<Vec<_>>();
         let mut levels = Vec::new();
         let mut current = graph.clone();
         let mut seed_idx: Vec<usize> = seeds.iter().map(|s| s.1).collect();

@@ -48,9 +48,11 @@ const USAGE: &str = "usage:
       joints, front view); without arguments, runs the bundled example models/examples/keys.json
   deeprep inbetween --skeleton [--models DIR]
       the model skeleton's joint names, one a line (the order of \"xy\" lists)
-  deeprep mesh topology ROBOT.glb --out TOPOLOGY.json
+  deeprep mesh topology MESH.obj|MESH.glb --out TOPOLOGY.json
       the mesh autoencoder's topology: welded vertices, triangles, connected edge graph,
-      sampling levels (s = 2, r = 2) with padded index/mask tables, latent seed vertices
+      sampling levels (s = 2, r = 2) with padded index/mask tables, latent seed vertices;
+      any topology (pieces, non-manifold edges, isolated vertices); the robot's glTF keeps
+      its latent seeds (hands, feet, head, torso)
   deeprep mesh poses ROBOT.glb --out PREFIX [--fps N] [--random N] [--seed S]
       every animation clip sampled at N fps (default 30) plus N random poses (default 0;
       each joint turned up to 30 degrees from a random clip frame), welded:

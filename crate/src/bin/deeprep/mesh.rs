@@ -1,5 +1,5 @@
 //! `deeprep mesh topology` and `deeprep mesh poses`: the mesh autoencoder's
-//! topology tables and training poses from a rigged glTF.
+//! topology tables (any OBJ or glTF mesh) and training poses from a rigged glTF.
 
 use super::args::CliError;
 use super::USAGE;
@@ -7,7 +7,7 @@ use super::USAGE;
 /// The most random poses `mesh poses` writes (per clip: `mesh::rig::MAX_CLIP_SAMPLES`).
 const MAX_CLIP_POSES: usize = 100_000;
 
-/// `deeprep mesh topology ROBOT.glb --out TOPOLOGY.json`.
+/// `deeprep mesh topology MESH.obj|MESH.glb --out TOPOLOGY.json`.
 pub fn topology(rest: &[&str]) -> Result<(), CliError> {
     match rest {
         [file, "--out", out] => Ok(mesh_topology(file, out)?),
@@ -30,8 +30,39 @@ fn robot(path: &str) -> Result<(deeprep::mesh::Rig, deeprep::mesh::Topology), St
     Ok((rig, topo))
 }
 
+/// The topology of any mesh file: an OBJ, or a glTF (the bundled robot's
+/// own settings and latent seeds when it has the robot's nodes, otherwise
+/// `Params::for_mesh` with no seeds). Returns the file's vertex count too.
+fn any_topology(path: &str) -> Result<(usize, deeprep::mesh::Topology), String> {
+    use deeprep::mesh::{Params, Topology, ROBOT_SEED_NODES};
+    let bytes = std::fs::read(path).map_err(|e| format!("{path}: {e}"))?;
+    let at = |e: deeprep::Error| format!("{path}: {e}");
+    let (positions, triangles) = if path.to_ascii_lowercase().ends_with(".obj") {
+        let text = String::from_utf8(bytes).map_err(|e| format!("{path}: {e}"))?;
+        let m = deeprep::mesh::obj::parse(&text).map_err(at)?;
+        (m.positions, m.triangles)
+    } else {
+        let rig = deeprep::mesh::Rig::from_glb(&bytes).map_err(at)?;
+        if ROBOT_SEED_NODES
+            .iter()
+            .all(|n| rig.node_names.iter().any(|m| m == n))
+        {
+            return Ok((rig.vertex_count(), Topology::robot(&rig).map_err(at)?));
+        }
+        let tris = rig
+            .triangles
+            .iter()
+            .map(|t| t.map(|i| i as usize))
+            .collect();
+        (rig.rest_pose().map_err(at)?, tris)
+    };
+    let t = Topology::from_mesh(&positions, &triangles, &Params::for_mesh(&positions), &[])
+        .map_err(at)?;
+    Ok((positions.len(), t))
+}
+
 fn mesh_topology(path: &str, out: &str) -> Result<(), String> {
-    let (rig, t) = robot(path)?;
+    let (vertices, t) = any_topology(path)?;
     let table = |n: &deeprep::mesh::NeighborTable| serde_json::json!({"rows": n.rows, "width": n.width, "indices": n.indices, "mask": n.mask});
     let levels: Vec<serde_json::Value> = t
         .levels
@@ -45,7 +76,7 @@ fn mesh_topology(path: &str, out: &str) -> Result<(), String> {
         .collect();
     let doc = serde_json::json!({
         "source": path,
-        "rig_vertices": rig.vertex_count(),
+        "rig_vertices": vertices,
         "weld_map": t.weld_map,
         "rest": t.rest,
         "triangles": t.triangles,
@@ -61,7 +92,7 @@ fn mesh_topology(path: &str, out: &str) -> Result<(), String> {
         .collect();
     eprintln!(
         "wrote {out}: {} rig vertices welded to {}, {} edges added, levels {sizes:?}",
-        rig.vertex_count(),
+        vertices,
         t.rest.len(),
         t.added_edges.len()
     );
