@@ -97,6 +97,21 @@ async function handleInit(msg) {
     }
     postMessage({ type: 'progress', id: 0, stage: 'loading models', fraction: 1 });
     model = new Inbetweener(g, p, m);
+    // The supervised residual network (issue 19) is optional and loads on
+    // first use; its small manifest says here whether it is there.
+    if (msg.models?.residual) {
+      model.setResidual(new Uint8Array(msg.models.residual), msg.models.residualManifest);
+    } else {
+      residualManifest = await fetchText(urls.residualManifest).catch(() => null);
+      // the residual network is the model for whole-pose keys when its
+      // manifest says so: then it loads now, not on first use
+      let isDefault = false;
+      try { isDefault = JSON.parse(residualManifest)?.default_for_whole_pose_keys === true; } catch { /* no manifest */ }
+      if (isDefault) {
+        postMessage({ type: 'progress', id: 0, stage: 'downloading models', fraction: 1 });
+        model.setResidual(await fetchBytes(urls.residual), residualManifest);
+      }
+    }
     // One plan for any length now, so the first synthesis of each length
     // does not wait for tract to optimize one (runtime::Model::prepare_any_shape),
     // and one small synthesis of the rest pose, so that the user's first is
@@ -107,12 +122,9 @@ async function handleInit(msg) {
     const skel = BvhClip.parse(model.skeletonBvh);
     const rest = new Float32Array(2 * skel.channelCount);
     model.synthesize(new Uint32Array([0, 63]), rest, 64, true, new Float32Array(0), undefined, false).free();
-    // The supervised residual network (issue 19) is optional and loads on
-    // first use; its small manifest says here whether it is there.
-    if (msg.models?.residual) {
-      model.setResidual(new Uint8Array(msg.models.residual), msg.models.residualManifest);
-    } else {
-      residualManifest = await fetchText(urls.residualManifest).catch(() => null);
+    // the generator too, when whole poses go to the residual network
+    if (model.residualIsDefault) {
+      model.synthesizeRequest('{"frames": 64, "keys": [{"frame": 0, "root": [0, 56, 0]}, {"frame": 63, "root": [0, 56, 1]}]}').free();
     }
     skeletonNames = skel.jointNames;
     const skeleton = { names: skeletonNames, parents: Array.from(skel.parents), offsets: Array.from(skel.offsets) };

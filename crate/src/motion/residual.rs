@@ -24,6 +24,14 @@ struct Manifest {
     rotating: Vec<usize>,
     scale: f64,
     gate_frames: f64,
+    /// The variation used when a request names none (chosen on training
+    /// takes; absent in older manifests: 1, the network as trained).
+    #[serde(default)]
+    variation: Option<f32>,
+    /// Whether `method: model` runs this network for whole-pose keys
+    /// (set when it beat the generator on training takes).
+    #[serde(default)]
+    default_for_whole_pose_keys: bool,
 }
 
 /// The residual in-betweening network with its skeleton.
@@ -34,6 +42,12 @@ pub struct ResidualModel {
     rotating: Vec<usize>,
     scale: f64,
     gate_frames: f64,
+    /// The variation a request without one runs at.
+    pub default_variation: f32,
+    /// Whether the in-betweening's `model` method runs this network when
+    /// every key is a whole pose and no Motion DNA is given (the manifest
+    /// says so when it beat the generator on training takes).
+    pub default_for_whole_pose_keys: bool,
 }
 
 type V3 = [f64; 3];
@@ -119,12 +133,20 @@ impl ResidualModel {
                 "residual manifest: scale and gate_frames must be positive".into(),
             ));
         }
+        let default_variation = m.variation.unwrap_or(1.0);
+        if !(0.0..=2.0).contains(&default_variation) {
+            return Err(Error::Invalid(format!(
+                "residual manifest: variation {default_variation} is outside [0, 2]"
+            )));
+        }
         Ok(ResidualModel {
             net: Model::from_onnx_bytes(onnx)?,
             template,
             rotating: m.rotating,
             scale: m.scale,
             gate_frames: m.gate_frames,
+            default_variation,
+            default_for_whole_pose_keys: m.default_for_whole_pose_keys,
         })
     }
 
@@ -140,6 +162,19 @@ impl ResidualModel {
     /// ([`crate::runtime::Model::prepare_any_shape`]).
     pub fn prepare_any_length(&self) -> Result<()> {
         self.net.prepare_any_shape().map(|_| ())
+    }
+
+    /// Whether the `model` method should run this network for `keys`: the
+    /// manifest makes it the default for whole-pose keys, every key is a
+    /// whole pose with rotations, and no Motion DNA is asked for (the
+    /// network has no DNA input; the generator does).
+    pub fn serves(&self, keys: &[Keyframe], dna_given: bool) -> bool {
+        self.default_for_whole_pose_keys
+            && !dna_given
+            && !keys.is_empty()
+            && keys
+                .iter()
+                .all(|k| k.rotations.is_some() && k.is_whole_pose())
     }
 
     /// In-betweens whole-pose keys over `frames` frames. Frames before the

@@ -147,10 +147,14 @@ impl Inbetweener {
     }
 
     /// The variation `synthesize` uses when given none: the manifest's,
-    /// chosen for this model on training takes.
+    /// chosen for this model on training takes (the residual network's when
+    /// it is the model for whole-pose keys, see `residualIsDefault`).
     #[wasm_bindgen(getter, js_name = defaultVariation)]
     pub fn default_variation(&self) -> f32 {
-        self.inner.default_variation
+        match &self.residual {
+            Some(r) if r.default_for_whole_pose_keys => r.default_variation,
+            _ => self.inner.default_variation,
+        }
     }
 
     /// The model's skeleton as BVH text with no frames.
@@ -312,6 +316,15 @@ impl Inbetweener {
         Ok(())
     }
 
+    /// Whether the loaded residual network is the `model` method's for
+    /// whole-pose keys (its manifest says so); false when none is loaded.
+    #[wasm_bindgen(getter, js_name = residualIsDefault)]
+    pub fn residual_is_default(&self) -> bool {
+        self.residual
+            .as_ref()
+            .is_some_and(|r| r.default_for_whole_pose_keys)
+    }
+
     /// Whether [`Inbetweener::set_residual`] has loaded the residual network.
     #[wasm_bindgen(getter, js_name = hasResidual)]
     pub fn has_residual(&self) -> bool {
@@ -383,6 +396,33 @@ impl Inbetweener {
         variation: Option<f32>,
         foot_lock: bool,
     ) -> Result<InbetweenResult, JsError> {
+        // the residual network where its manifest makes it the model for
+        // whole-pose keys without DNA (as the CLI's --method model)
+        if let Some(r) = self
+            .residual
+            .as_ref()
+            .filter(|r| post_process && r.serves(&keys, dna.is_some()))
+        {
+            let t0 = js_sys::Date::now();
+            let mut m = r
+                .synthesize(&keys, frames, variation.unwrap_or(r.default_variation))
+                .map_err(js_err)?;
+            if foot_lock {
+                crate::motion::feet::lock_feet(
+                    &mut m,
+                    &r.template,
+                    &keys,
+                    &crate::motion::feet::FootLock::default(),
+                );
+            }
+            let ms = js_sys::Date::now() - t0;
+            return result_from(
+                &self.inner.template,
+                &m,
+                vec![ms, 0.0, 0.0, 0.0],
+                vec![0.0; 4],
+            );
+        }
         let req = crate::motion::pipeline::Request {
             keys,
             frames,
@@ -419,7 +459,7 @@ impl Inbetweener {
             .ok_or_else(|| JsError::new("the residual network is not loaded (setResidual)"))?;
         let t0 = js_sys::Date::now();
         let m = r
-            .synthesize(keys, frames, variation.unwrap_or(1.0))
+            .synthesize(keys, frames, variation.unwrap_or(r.default_variation))
             .map_err(js_err)?;
         let ms = js_sys::Date::now() - t0;
         result_from(

@@ -118,6 +118,17 @@ fn synthesize(
     dna: Option<Vec<Vec<f32>>>,
 ) -> Result<(deeprep::motion::Motion, String), String> {
     use deeprep::motion::{baseline, pipeline};
+    let residual = match o.method.as_str() {
+        "model" if o.post => residual_serves(o, keys, dna.is_some())?,
+        _ => None,
+    };
+    if let Some(m) = residual {
+        let (motion, info) = run_residual(o, &m, keys, frames)?;
+        return Ok((
+            motion,
+            format!("by the residual network (the model for whole-pose keys without DNA): {info}"),
+        ));
+    }
     match o.method.as_str() {
         "slerp" => Ok((
             baseline::slerp_lerp(keys, frames).map_err(|e| e.to_string())?,
@@ -128,20 +139,15 @@ fn synthesize(
             String::new(),
         )),
         "residual" => {
-            if o.foot_lock || dna.is_some() || !o.post {
-                return Err("--method residual takes no --foot-lock, --dna or --no-post (its keys are exact by construction)".into());
+            if dna.is_some() || !o.post {
+                return Err("--method residual takes no --dna or --no-post (its keys are exact by construction)".into());
             }
             let m =
                 deeprep::motion::residual::ResidualModel::load_dir(std::path::Path::new(&o.models))
                     .map_err(|e| e.to_string())?;
-            let start = std::time::Instant::now();
-            let motion = m
-                .synthesize(keys, frames, o.variation.unwrap_or(1.0))
-                .map_err(|e| e.to_string())?;
-            let info = format!("{:.1} ms", start.elapsed().as_secs_f64() * 1000.0);
-            Ok((motion, info))
+            run_residual(o, &m, keys, frames)
         }
-        "model" => {
+        "model" | "generator" => {
             let m = pipeline::TweenModels::load_dir(std::path::Path::new(&o.models))
                 .map_err(|e| e.to_string())?;
             let start = std::time::Instant::now();
@@ -171,9 +177,53 @@ fn synthesize(
             Ok((out.motion, info))
         }
         other => Err(format!(
-            "unknown --method '{other}' (model, residual, slerp, zerovel)"
+            "unknown --method '{other}' (model, generator, residual, slerp, zerovel)"
         )),
     }
+}
+
+/// The residual network when `--method model` should run it
+/// (`ResidualModel::serves`: its manifest makes it the default for
+/// whole-pose keys without DNA), else `None`; a residual file that is there
+/// but does not load is an error, not a silent fallback.
+fn residual_serves(
+    o: &Opts,
+    keys: &[deeprep::motion::Keyframe],
+    dna: bool,
+) -> Result<Option<deeprep::motion::residual::ResidualModel>, String> {
+    let dir = std::path::Path::new(&o.models);
+    if !dir.join("tween_residual.manifest.json").exists() {
+        return Ok(None);
+    }
+    let m = deeprep::motion::residual::ResidualModel::load_dir(dir).map_err(|e| e.to_string())?;
+    Ok(m.serves(keys, dna).then_some(m))
+}
+
+/// The residual network on whole-pose keys, then foot locking if asked.
+fn run_residual(
+    o: &Opts,
+    m: &deeprep::motion::residual::ResidualModel,
+    keys: &[deeprep::motion::Keyframe],
+    frames: usize,
+) -> Result<(deeprep::motion::Motion, String), String> {
+    let start = std::time::Instant::now();
+    let mut motion = m
+        .synthesize(keys, frames, o.variation.unwrap_or(m.default_variation))
+        .map_err(|e| e.to_string())?;
+    let mut info = format!("{:.1} ms", start.elapsed().as_secs_f64() * 1000.0);
+    if o.foot_lock {
+        let s = deeprep::motion::feet::lock_feet(
+            &mut motion,
+            &m.template,
+            keys,
+            &deeprep::motion::feet::FootLock::default(),
+        );
+        info += &format!(
+            "; feet: {} contacts pinned over {} frames",
+            s.contacts, s.frames
+        );
+    }
+    Ok((motion, info))
 }
 
 /// Motion DNA poses from `--dna`: frames `F1,F2,...` of the `--from-bvh`

@@ -25,13 +25,16 @@ const USAGE: &str = "usage:
       root position, root 6D, range-constrained Euler angles in radians, clamped to
       Table D.1), little-endian f32; for the training pipeline
   deeprep inbetween --from-bvh CLIP.bvh --keys F1,F2,... -o OUT.bvh
-          [--method model|residual|slerp|zerovel] [--models DIR] [--no-post] [--foot-lock] [--variation V]
+          [--method model|generator|residual|slerp|zerovel] [--models DIR] [--no-post] [--foot-lock] [--variation V]
           [--dna F1,F2,...|DNA.bvh [--seed S]] [--key-kind pose|root|xy]
       keys from those frames of CLIP (--key-kind: whole poses, the default; the root's
       position only; or every joint's global x and y with the root); OUT has CLIP's length, frame rate and
       skeleton; frames between the first and last key are synthesized, the others copied
       --method residual: the supervised residual on SLERP+LERP (models/onnx/tween_residual.onnx;
-      --variation scales its correction, 1 by default)
+      --variation scales its correction; default: its manifest's); --method generator: the
+      Generative Tweening generator and path predictor (any key kind, DNA); --method model (the
+      default): the residual network where its manifest makes it the default and every key is
+      a whole pose without --dna or --no-post, the generator otherwise
   deeprep inbetween KEYS.json --frames N [-o OUT.bvh] [--models DIR] [--no-post] [--foot-lock] [--variation V] [--dna DNA.bvh [--seed S]]
       --no-post: keys not made exact; --foot-lock: after that, pin feet in contact by two-bone IK
       (off by default: at the default variation it raised L2P, NPSS and foot skating on training takes)
