@@ -63,11 +63,20 @@ METHOD_ARGS = {"model-nolock": ["--method", "model", "--no-foot-lock"],
 # SLERP+LERP kept (0 is SLERP+LERP itself).
 METHOD_ARGS.update({m: ["--method", "model", "--no-foot-lock", "--variation", m.split("-", 1)[1]]
                     for m in METHODS if m.startswith("variation-")})
+# "generator" (the Generative Tweening generator whatever the residual
+# manifest says, --method generator) and "generator-V" at variation V;
+# "residual-V": the residual network at variation V.
+METHOD_ARGS["generator"] = ["--method", "generator", "--no-foot-lock"]
+METHOD_ARGS.update({m: ["--method", "generator", "--no-foot-lock", "--variation", m.split("-", 1)[1]]
+                    for m in METHODS if m.startswith("generator-")})
+METHOD_ARGS.update({m: ["--method", "residual", "--variation", m.split("-", 1)[1]]
+                    for m in METHODS if m.startswith("residual-")})
 
 
 def runs_model(m):
-    """Whether method m runs the in-betweening networks (CLI --method model)."""
-    return METHOD_ARGS.get(m, ["--method", m])[1] == "model"
+    """Whether method m runs the generator pipeline (CLI --method model or
+    generator), whose key errors before post-processing are reported."""
+    return METHOD_ARGS.get(m, ["--method", m])[1] in ("model", "generator")
 
 
 # EVAL_SPLIT=train scores training takes instead (for choosing settings

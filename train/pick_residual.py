@@ -1,0 +1,60 @@
+"""Settles the residual network's place (issue 19) on the *training* takes:
+its default `variation`, by the rule train/pick_variation.py uses for the
+generator (most cells of the issue's target met against SLERP+LERP, then
+the lowest mean ratio), and whether `--method model` runs it for whole-pose
+keys: it does when, at that variation, it beats the generator at its own
+default on L2P and NPSS at every gap. The validation takes the README
+reports are not looked at.
+
+  train/.venv/bin/python train/pick_residual.py [V ...]   (default grid below)
+
+Runs train/eval_tween.py once (EVAL_SPLIT=train) with SLERP+LERP, the
+generator at its default and the residual network at each V, writes
+docs/inbetween_residual_default_train.json and sets `variation`,
+`default_for_whole_pose_keys` and how they were chosen in
+models/onnx/tween_residual.manifest.json.
+"""
+import json
+import os
+import subprocess
+import sys
+
+from export_util import write_json
+from pick_checkpoint import GAPS, best, target_cells
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+GRID = ["0.75", "1", "1.25"]
+MANIFEST = os.path.join(ROOT, "models", "onnx", "tween_residual.manifest.json")
+
+
+def main():
+    grid = sys.argv[1:] or GRID
+    methods = ["slerp", "generator"] + [f"residual-{v}" for v in grid]
+    subprocess.run([sys.executable, "train/eval_tween.py"], cwd=ROOT, check=True,
+                   env=os.environ | {"EVAL_SPLIT": "train", "EVAL_METHODS": ",".join(methods)})
+    res = json.load(open(os.path.join(ROOT, "docs", "inbetween_eval_train.json")))
+    scores = {v: target_cells(res, f"residual-{v}") for v in grid}
+    for v, s in scores.items():
+        print(v, json.dumps(s), flush=True)
+    top = best(scores)
+    r, g = f"residual-{top}", "generator"
+    beats = {f"{metric}@{gap}": res[f"{r}@{gap}"][metric] < res[f"{g}@{gap}"][metric]
+             for metric in ("L2P", "NPSS") for gap in GAPS}
+    default = all(beats.values())
+    print("variation", top, "; beats the generator:", json.dumps(beats), "-> default" if default else "-> not the default")
+    write_json(os.path.join(ROOT, "docs", "inbetween_residual_default_train.json"),
+               {"variation": float(top), "scores": scores, "beats_generator": beats, "default_for_whole_pose_keys": default,
+                "generator": {m: [res[f"generator@{x}"][m] for x in GAPS] for m in ("L2P", "NPSS")},
+                "slerp": {m: [res[f"slerp@{x}"][m] for x in GAPS] for m in ("L2P", "NPSS")}})
+    manifest = json.load(open(MANIFEST))
+    manifest["variation"] = float(top)
+    manifest["default_for_whole_pose_keys"] = default
+    manifest["chosen_by"] = ("train/pick_residual.py on training takes: variation by most target cells met against "
+                             "SLERP+LERP (NPSS at every gap, L2P at 30/60), then lowest mean ratio, grid "
+                             f"{', '.join(grid)}; the model for whole-pose keys when it beats the generator at its "
+                             "default on L2P and NPSS at every gap; scores in docs/inbetween_residual_default_train.json")
+    write_json(MANIFEST, manifest)
+
+
+if __name__ == "__main__":
+    main()
