@@ -61,6 +61,9 @@ export interface SynthesisResult {
   times: number[];
   /** Mean key errors: root and joints before post-processing, then after. */
   keyError: number[];
+  /** Empty when the networks ran directly; with a gap over 600 frames (up to 3,000) the
+   *  synthesis is hierarchical and these are the frames of the critical keys made first. */
+  criticalFrames: number[];
 }
 /** A whole pose: one BVH channel row of the model's skeleton. */
 export interface PoseKey { frame: number; channels: number[] }
@@ -71,14 +74,15 @@ export interface RootKey { frame: number; root: [number, number, number] }
 export interface XyKey { frame: number; xy: ([number, number] | null)[]; root: [number, number, number] | null }
 export type Key = PoseKey | RootKey | XyKey;
 export interface SynthesisRequest {
-  /** Keys of any kind, sorted by frame, unique, each < frames, at most 600 apart
+  /** Keys of any kind, sorted by frame, unique, each < frames, at most 3,000 apart (over 600: hierarchical)
    *  (instead of keyFrames + keyChannels). Root-only and 2-D keys need method 'model'. */
   keys?: Key[];
-  /** Sorted, unique key frames, each < frames, at most 600 apart (whole poses). */
+  /** Sorted, unique key frames, each < frames, at most 3,000 apart (whole poses; over 600: hierarchical). */
   keyFrames?: number[];
   /** BVH channel rows of the model's skeleton, keys x channels. */
   keyChannels?: number[] | Float32Array;
   frames: number;
+  /** Make the keys exact (post-processing; default true). */
   post?: boolean;
   /** After post-processing, pin feet in contact by two-bone IK (default false). */
   footLock?: boolean;

@@ -174,7 +174,7 @@ function importBvh(msg) {
 function postResult(id, method, r) {
   const positions = r.positions, translations = r.translations, quaternions = r.quaternions;
   postMessage({ type: 'result', id, method, bvh: r.bvh, frames: r.frames, frameTime: r.frameTime, times: Array.from(r.times),
-                keyError: Array.from(r.keyError), positions, translations, quaternions },
+                keyError: Array.from(r.keyError), criticalFrames: Array.from(r.criticalFrames), positions, translations, quaternions },
               [positions.buffer, translations.buffer, quaternions.buffer]);
   r.free();
 }
@@ -195,7 +195,7 @@ function handle(msg) {
     const kc = new Float32Array(msg.keyChannels);
     const r = msg.method === 'slerp' ? model.interpolate(kf, kc, msg.frames)
       : msg.method === 'residual' ? model.residual(kf, kc, msg.frames, msg.variation)
-        : model.synthesize(kf, kc, msg.frames, msg.post, new Float32Array(msg.dna || []), msg.variation, msg.footLock);
+        : model.synthesize(kf, kc, msg.frames, msg.post ?? true, new Float32Array(msg.dna || []), msg.variation, msg.footLock);
     postMessage({ type: 'progress', id, stage: 'writing BVH', fraction: 0.9 });
     postResult(id, msg.method, r);
   } else if (msg.type === 'synthesizeFromBvh') {

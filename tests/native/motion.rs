@@ -349,11 +349,32 @@ fn the_model_pipeline_hits_keys_exactly_after_post_processing() {
         foot_lock: Some(FootLock::default()),
         variation: None,
     };
-    assert!(m
-        .synthesize(&far, &|| 0.0)
-        .unwrap_err()
-        .to_string()
-        .contains("600 frames"));
+    // a 700-frame gap runs hierarchically (Sec. 5.4.3): critical keys
+    // inside it, every key exact after post-processing
+    let out = m.synthesize(&far, &|| 0.0).unwrap();
+    assert_eq!(out.motion.len(), 800);
+    assert!(
+        !out.critical_frames.is_empty() && out.critical_frames.iter().all(|&f| f > 0 && f < 700)
+    );
+    assert!(
+        out.key_error.root < 1e-6 && out.key_error.local < 1e-3,
+        "{:?}",
+        out.key_error
+    );
+    // beyond 3,000 frames: an error that names both limits
+    let too_far = Request {
+        keys: vec![
+            keys[0].clone(),
+            Keyframe {
+                frame: 3100,
+                ..keys[1].clone()
+            },
+        ],
+        frames: 3200,
+        ..far.clone()
+    };
+    let e = m.synthesize(&too_far, &|| 0.0).unwrap_err().to_string();
+    assert!(e.contains("600 frames") && e.contains("3000"), "{e}");
     let zero = Request {
         frames: 0,
         ..req.clone()

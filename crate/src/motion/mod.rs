@@ -54,6 +54,10 @@ pub fn check_frames(frames: usize) -> Result<()> {
 /// 636-frame reach).
 pub const MAX_GAP: usize = 600;
 
+/// The longest gap between keys hierarchical synthesis takes (Sec. 5.4.3:
+/// critical frames first, then the shorter intervals): 3,000 frames, 50 s.
+pub const MAX_LONG_GAP: usize = 3000;
+
 /// A synthesis request.
 #[derive(Clone, Debug)]
 pub struct Request {
@@ -95,9 +99,9 @@ impl Request {
             )));
         }
         for w in self.keys.windows(2) {
-            if w[1].frame - w[0].frame > MAX_GAP {
+            if w[1].frame - w[0].frame > MAX_LONG_GAP {
                 return Err(Error::Invalid(format!(
-                    "keys at frames {} and {} are {} frames apart; the model reaches {MAX_GAP} frames (10 s at 60 fps)",
+                    "keys at frames {} and {} are {} frames apart; the model reaches {MAX_GAP} frames (10 s at 60 fps) directly and {MAX_LONG_GAP} (50 s) hierarchically",
                     w[0].frame,
                     w[1].frame,
                     w[1].frame - w[0].frame

@@ -12,7 +12,7 @@ use crate::rotation::Mat3;
 use crate::runtime::{Model, TensorF32};
 use crate::skeleton::Bvh;
 
-pub use super::{Request, MAX_GAP};
+pub use super::{Request, MAX_GAP, MAX_LONG_GAP};
 
 /// The two networks plus what they need: skeleton, ranges, normalization.
 pub struct TweenModels {
@@ -75,6 +75,9 @@ pub struct Output {
     pub key_error: KeyError,
     /// What foot locking did (all zero when it is off).
     pub foot_lock: FootLockStats,
+    /// Hierarchical synthesis (a gap over [`MAX_GAP`]): the frames of the
+    /// critical keys made first; empty when the networks ran directly.
+    pub critical_frames: Vec<usize>,
 }
 
 impl TweenModels {
@@ -123,7 +126,84 @@ impl TweenModels {
 
     /// Synthesizes a motion. `now_ms` is a clock (milliseconds) for the
     /// stage timings; pass `|| 0.0` to skip timing.
+    ///
+    /// Gaps between keys up to [`MAX_GAP`] frames run the networks
+    /// directly. Longer ones, up to [`MAX_LONG_GAP`], run hierarchically
+    /// (Sec. 5.4.3: critical frames first, then the shorter intervals): the
+    /// whole request is first synthesized on a timeline compressed by
+    /// `f = ⌈longest gap / MAX_GAP⌉`, whose poses at evenly spaced frames
+    /// inside each long gap (at most 300 frames apart) become whole-pose
+    /// critical keys; the request with them then runs directly. The coarse
+    /// pass plays the motion f times faster, so only its poses and root
+    /// positions are kept, not its timing. The output lists the critical
+    /// frames; key errors after post-processing are measured on the request's
+    /// own keys.
     pub fn synthesize(&self, req: &Request, now_ms: &dyn Fn() -> f64) -> Result<Output> {
+        let j = self.joints();
+        req.validate(j, self.default_variation)?;
+        let longest = req
+            .keys
+            .windows(2)
+            .map(|w| w[1].frame - w[0].frame)
+            .max()
+            .unwrap_or(0);
+        if longest <= MAX_GAP {
+            return self.synthesize_direct(req, now_ms);
+        }
+        let f = longest.div_ceil(MAX_GAP);
+        let coarse_frames = (req.frames - 1) / f + 1;
+        let mut coarse_keys: Vec<Keyframe> = Vec::with_capacity(req.keys.len());
+        for k in &req.keys {
+            let frame = ((k.frame + f / 2) / f).min(coarse_frames - 1);
+            if coarse_keys.last().is_some_and(|c| c.frame >= frame) {
+                continue; // keys closer than f frames share a coarse frame: the first stays
+            }
+            coarse_keys.push(Keyframe { frame, ..k.clone() });
+        }
+        let coarse = self.synthesize_direct(
+            &Request {
+                keys: coarse_keys,
+                frames: coarse_frames,
+                dna: req.dna.clone(),
+                post_process: true,
+                foot_lock: None,
+                variation: req.variation,
+            },
+            now_ms,
+        )?;
+        let coarse_bvh = coarse.motion.to_bvh(&self.template, f as f64 / 60.0)?;
+        const PIECE: usize = 300;
+        let mut keys = req.keys.clone();
+        let mut critical = Vec::new();
+        for w in req.keys.windows(2) {
+            let (a, b) = (w[0].frame, w[1].frame);
+            if b - a <= MAX_GAP {
+                continue;
+            }
+            let pieces = (b - a).div_ceil(PIECE);
+            for i in 1..pieces {
+                let t = a + i * (b - a) / pieces;
+                let ct = ((t + f / 2) / f).min(coarse_frames - 1);
+                keys.push(Keyframe::from_bvh(&coarse_bvh, ct, t)?);
+                critical.push(t);
+            }
+        }
+        keys.sort_by_key(|k| k.frame);
+        let mut out = self.synthesize_direct(
+            &Request {
+                keys,
+                ..req.clone()
+            },
+            now_ms,
+        )?;
+        // after post-processing: on the request's own keys; before it: as the
+        // fine pass measured it, over its keys, critical ones included
+        out.key_error = self.key_error(&out.motion, &req.keys);
+        out.critical_frames = critical;
+        Ok(out)
+    }
+
+    fn synthesize_direct(&self, req: &Request, now_ms: &dyn Fn() -> f64) -> Result<Output> {
         let j = self.joints();
         let p = 3 * j;
         let variation = req.validate(j, self.default_variation)?;
@@ -224,6 +304,7 @@ impl TweenModels {
             key_error_raw,
             key_error,
             foot_lock,
+            critical_frames: Vec::new(),
         })
     }
 

@@ -21,6 +21,7 @@ pub struct InbetweenResult {
     tracks: crate::skeleton::fk::LocalTracks,
     times: Vec<f64>,
     key_error: Vec<f64>,
+    critical_frames: Vec<u32>,
 }
 
 impl InbetweenResult {
@@ -37,6 +38,7 @@ impl InbetweenResult {
             tracks: crate::skeleton::fk::local_tracks(b),
             times,
             key_error,
+            critical_frames: Vec::new(),
         })
     }
 }
@@ -82,6 +84,13 @@ impl InbetweenResult {
     #[wasm_bindgen(getter, js_name = keyError)]
     pub fn key_error(&self) -> Vec<f64> {
         self.key_error.clone()
+    }
+    /// How the networks ran: empty when directly; the frames of the
+    /// critical keys made first when a gap over 600 frames made the
+    /// synthesis hierarchical (`TweenModels::synthesize`).
+    #[wasm_bindgen(getter, js_name = criticalFrames)]
+    pub fn critical_frames(&self) -> Vec<u32> {
+        self.critical_frames.clone()
     }
 }
 
@@ -165,7 +174,8 @@ impl Inbetweener {
 
     /// Synthesizes `frames` frames through whole-pose keys given as BVH
     /// channel rows of the model's skeleton (`keyChannels`: keys × channels)
-    /// at `keyFrames` (sorted, unique, < frames, at most 600 apart).
+    /// at `keyFrames` (sorted, unique, < frames, at most 3,000 apart; gaps over
+    /// 600 run hierarchically, see `criticalFrames`).
     /// `dnaChannels` (optional, may be empty): Motion DNA poses as channel
     /// rows; their root rotation is removed. Empty: the keys serve as DNA.
     /// `postProcess`: make the keys exact; false returns the networks' raw
@@ -434,7 +444,7 @@ impl Inbetweener {
         let now = || js_sys::Date::now();
         let out = self.inner.synthesize(&req, &now).map_err(js_err)?;
         let t = &out.times;
-        result_from(
+        let mut r = result_from(
             &self.inner.template,
             &out.motion,
             vec![t.generator_ms, t.rcfk_ms, t.path_ms, t.post_ms],
@@ -444,7 +454,9 @@ impl Inbetweener {
                 out.key_error.root,
                 out.key_error.local,
             ],
-        )
+        )?;
+        r.critical_frames = out.critical_frames.iter().map(|&f| f as u32).collect();
+        Ok(r)
     }
 
     fn run_residual(

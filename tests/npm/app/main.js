@@ -100,12 +100,17 @@ try {
     const at = rootKeys.positions.subarray(90 * i * 3 * client.skeleton.names.length, 90 * i * 3 * client.skeleton.names.length + 3);
     if (Math.hypot(at[0] - p[0], at[1] - p[1], at[2] - p[2]) > 1e-3) throw new Error(`root key ${i}: ${Array.from(at)} vs ${p}`);
   }
+  // a 1,500-frame gap (over the networks' 600): hierarchical, critical keys first (Sec. 5.4.3)
+  const longGap = await client.synthesize({ keyFrames: [0, 1500], keyChannels: [...row, ...row.map((v, i) => (i === 0 ? 400 : v))], frames: 1501, post: true });
+  if (longGap.frames !== 1501 || !longGap.criticalFrames.length || Math.abs(longGap.positions[1500 * 3 * client.skeleton.names.length] - 400) > 1e-3) {
+    throw new Error(`a 1,500-frame gap: ${longGap.frames} frames, critical keys ${longGap.criticalFrames}, root x at 1500: ${longGap.positions[1500 * 3 * client.skeleton.names.length]}, at 0: ${longGap.positions[0]}`);
+  }
   const badKey = await client.synthesize({ frames: 60, keys: [{ frame: 0, root: [0, 56] }] }).then(() => null, (e) => e);
   if (badKey?.code !== 'E_BAD_KEYS' || !/key 0/.test(badKey.message)) throw new Error(`a bad root key: ${badKey?.code} ${badKey?.message}`);
   let code = null;
   await client.importBvh(new TextEncoder().encode('HIERARCHY\nnot a bvh')).catch((e) => { code = e.code; });
   if (r.frames !== 60 || clip.frameCount !== 2 || code !== 'E_BAD_BVH') throw new Error(`unexpected: ${r.frames} ${clip.frameCount} ${code}`);
-  document.getElementById('out').textContent = `deeprep ${version()} 6d ${Array.from(sixd)}; synthesized ${r.frames} frames; a 120 fps clip in-betweened (${fromClip.frames} frames); ${cmu}; three.js: ${compared} tracks as BVHLoader's (max difference ${worst.toExponential(1)}), played; root-only keys hit; bad BVH -> ${code}; missing models -> ${missing}; abort -> ${aborted}, then ${after.frames} frames`;
+  document.getElementById('out').textContent = `deeprep ${version()} 6d ${Array.from(sixd)}; synthesized ${r.frames} frames; a 120 fps clip in-betweened (${fromClip.frames} frames); ${cmu}; three.js: ${compared} tracks as BVHLoader's (max difference ${worst.toExponential(1)}), played; root-only keys hit; a 1,500-frame gap via critical keys at ${longGap.criticalFrames.join(', ')}; bad BVH -> ${code}; missing models -> ${missing}; abort -> ${aborted}, then ${after.frames} frames`;
   document.body.dataset.done = '1';
 } catch (e) {
   document.body.dataset.error = `${e.code || ''} ${e.message}`;

@@ -174,6 +174,15 @@ fn synthesize(
                 out.times.path_ms,
                 out.times.post_ms
             );
+            let info = if out.critical_frames.is_empty() {
+                info
+            } else {
+                format!(
+                    "hierarchical (a gap over {} frames): critical keys made first at frames {:?}; {info}",
+                    pipeline::MAX_GAP,
+                    out.critical_frames
+                )
+            };
             Ok((out.motion, info))
         }
         other => Err(format!(
