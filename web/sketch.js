@@ -409,7 +409,8 @@ async function synthesize() {
     $('method-badge').textContent = { slerp: 'SLERP+LERP interpolation baseline', residual: 'supervised residual network' }[method] || 'Generative Tweening model';
     $('method-badge').classList.toggle('baseline', method === 'slerp');
     const ms = performance.now() - t0;
-    $('timing').textContent = `${r.frames} frames in ${ms.toFixed(0)} ms` + (method === 'model' ? ` (generator ${r.times[0].toFixed(0)} ms, RC-FK ${r.times[1].toFixed(0)}, path ${r.times[2].toFixed(0)}, post ${r.times[3].toFixed(0)})` : '');
+    $('timing').textContent = `${r.frames} frames in ${ms.toFixed(0)} ms` + (method === 'model' ? ` (generator ${r.times[0].toFixed(0)} ms, RC-FK ${r.times[1].toFixed(0)}, path ${r.times[2].toFixed(0)}, post ${r.times[3].toFixed(0)})` : '')
+      + (r.criticalFrames?.length ? `; hierarchical (a gap over 600 frames): critical keys made first at frames ${r.criticalFrames.join(', ')}` : '');
     $('progress').value = 1;
     $('progress-label').textContent = 'done';
     document.body.dataset.synthesized = String(r.frames);

@@ -134,12 +134,18 @@ test('sketch page: 3 keys, 512 frames, drawn, exported, undoable', async () => {
   assert.deepEqual(await page.evaluate(() => window.deeprepState.keys.find((k) => k.frame === 0).channels), before);
   await page.click('#redo');
 
-  // A failed synthesis keeps the keys: a gap of more than 600 frames.
+  // A 700-frame gap runs hierarchically (critical keys first), and the page says so.
   await page.evaluate(() => { window.deeprepState.keys = [window.deeprepState.keys[0], { ...window.deeprepState.keys[1], frame: 700 }]; });
   await page.fill('#length', '800');
   await page.click('#synth');
+  await page.waitForSelector('body[data-synthesized="800"]', { timeout: 120_000 });
+  assert.match(await page.textContent('#timing'), /hierarchical.*critical keys/);
+  // A failed synthesis keeps the keys: a gap of more than 3,000 frames.
+  await page.evaluate(() => { window.deeprepState.keys = [window.deeprepState.keys[0], { ...window.deeprepState.keys[1], frame: 3100 }]; });
+  await page.fill('#length', '3200');
+  await page.click('#synth');
   await page.waitForFunction(() => document.getElementById('status').classList.contains('error'));
-  assert.match(await page.textContent('#status'), /600 frames.*keys are unchanged/);
+  assert.match(await page.textContent('#status'), /3000.*keys are unchanged/);
   assert.equal(await page.evaluate(() => window.deeprepState.keys.length), 2);
 
 });
