@@ -228,6 +228,8 @@ test('sketch page: a root path drawn on the ground (root-only keys, Sec. 5.4.1)'
   assert.deepEqual(keys.map((k) => k.frame), [0, 60, 120, 180]);
   assert.ok(keys.slice(1).every((k) => k.root && k.root.every(Number.isFinite)), JSON.stringify(keys));
   await page.uncheck('#path-mode');
+  // the page synthesized its example keys (300 frames) at load: wait for this synthesis
+  await page.evaluate(() => { delete document.body.dataset.synthesized; });
   await page.click('#synth');
   await page.waitForSelector('body[data-synthesized="300"]', { timeout: 120_000 });
   // the synthesized root passes through every clicked point (post-processing on)
