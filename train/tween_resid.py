@@ -578,22 +578,35 @@ def export(args):
 
 def pick(args):
     """Chooses among snapshots by their `eval --split train --json` results
-    (never validation): among those that beat SLERP+LERP on MPJPE and NPSS at
-    every gap, the one whose joint speed at gaps 120 and 300 is closest to
-    the truth's (issue 19's realism target); if none beats it everywhere, the
-    lowest mean MPJPE ratio. Prints the scores and writes them to --json."""
+    (never validation), by issue 19's targets: among those that beat
+    SLERP+LERP on MPJPE, L2P and NPSS at every gap, by at least 10% on NPSS
+    at gaps 120 and 300, with joint speed within 30% of the truth's at 120
+    and 300, the one with the lowest mean L2P ratio; if none meets all of
+    that, among those that beat SLERP+LERP everywhere the one whose joint
+    speed at 120 and 300 is closest to the truth's; else the lowest mean
+    MPJPE ratio. Prints the scores and writes them to --json."""
     rows = []
     for path in args.results:
         r = json.load(open(path))
         g = r["gaps"]
-        ratio = lambda k: [g[x]["model"][k] / g[x]["slerp"][k] for x in g]  # noqa: E731
-        wins = all(v < 1 for v in ratio("mpjpe") + ratio("npss"))
+        ratio = lambda k: [g[x]["model"][k] / g[x]["slerp"][k] for x in g if k in g[x]["model"]]  # noqa: E731
+        wins = all(v < 1 for v in ratio("mpjpe") + ratio("npss") + ratio("l2p"))
         speed = [abs(1 - g[x]["model"]["speed_ratio"]) for x in ("120", "300") if x in g]
-        rows.append({"ckpt": r["ckpt"], "beats_slerp_everywhere": wins, "mpjpe_ratio": ratio("mpjpe"),
+        npss_long = [g[x]["model"]["npss"] / g[x]["slerp"]["npss"] for x in ("120", "300") if x in g]
+        targets = wins and bool(ratio("l2p")) and all(v <= 0.9 for v in npss_long) and all(v <= 0.3 for v in speed)
+        rows.append({"ckpt": r["ckpt"], "beats_slerp_everywhere": wins, "meets_issue_targets": targets,
+                     "mpjpe_ratio": ratio("mpjpe"), "l2p_ratio": ratio("l2p"),
                      "npss_ratio": ratio("npss"), "speed_ratio": [g[x]["model"]["speed_ratio"] for x in g],
-                     "speed_gap_120_300": float(np.mean(speed)), "mean_mpjpe_ratio": float(np.mean(ratio("mpjpe")))})
+                     "speed_gap_120_300": float(np.mean(speed)), "mean_mpjpe_ratio": float(np.mean(ratio("mpjpe"))),
+                     "mean_l2p_ratio": float(np.mean(ratio("l2p"))) if ratio("l2p") else None})
+    met = [r for r in rows if r["meets_issue_targets"]]
     ok = [r for r in rows if r["beats_slerp_everywhere"]]
-    best = min(ok, key=lambda r: r["speed_gap_120_300"]) if ok else min(rows, key=lambda r: r["mean_mpjpe_ratio"])
+    if met:
+        best = min(met, key=lambda r: r["mean_l2p_ratio"])
+    elif ok:
+        best = min(ok, key=lambda r: r["speed_gap_120_300"])
+    else:
+        best = min(rows, key=lambda r: r["mean_mpjpe_ratio"])
     for r in rows:
         print(("* " if r is best else "  ") + json.dumps(r))
     if args.json:
