@@ -57,10 +57,12 @@ export interface SynthesisResult {
   translations: Float32Array;
   /** Local rotations as quaternions [x, y, z, w], frames x joints x 4 (deeprep/three.js turns these into an AnimationClip). */
   quaternions: Float32Array;
-  /** Milliseconds: generator, RC-FK, path, post-processing. */
+  /** Milliseconds: generator, RC-FK, path, post-processing (also by name in `stages`). */
   times: number[];
-  /** Mean key errors: root and joints before post-processing, then after. */
+  stages: { generatorMs: number; rcfkMs: number; pathMs: number; postMs: number };
+  /** Mean key errors: root and joints before post-processing, then after (also by name in `keyErrors`). */
   keyError: number[];
+  keyErrors: { before: { root: number; joints: number }; after: { root: number; joints: number } };
   /** Empty when the networks ran directly; with a gap over 600 frames (up to 3,000) the
    *  synthesis is hierarchical and these are the frames of the critical keys made first. */
   criticalFrames: number[];

@@ -173,8 +173,12 @@ function importBvh(msg) {
  * the local tracks (translations, quaternions) that three.js and glTF take. */
 function postResult(id, method, r) {
   const positions = r.positions, translations = r.translations, quaternions = r.quaternions;
-  postMessage({ type: 'result', id, method, bvh: r.bvh, frames: r.frames, frameTime: r.frameTime, times: Array.from(r.times),
-                keyError: Array.from(r.keyError), criticalFrames: Array.from(r.criticalFrames), positions, translations, quaternions },
+  const times = Array.from(r.times), keyError = Array.from(r.keyError);
+  postMessage({ type: 'result', id, method, bvh: r.bvh, frames: r.frames, frameTime: r.frameTime, times, keyError,
+                // the same numbers by name
+                stages: { generatorMs: times[0], rcfkMs: times[1], pathMs: times[2], postMs: times[3] },
+                keyErrors: { before: { root: keyError[0], joints: keyError[1] }, after: { root: keyError[2], joints: keyError[3] } },
+                criticalFrames: Array.from(r.criticalFrames), positions, translations, quaternions },
               [positions.buffer, translations.buffer, quaternions.buffer]);
   r.free();
 }

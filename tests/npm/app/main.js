@@ -102,6 +102,7 @@ try {
   }
   // a 1,500-frame gap (over the networks' 600): hierarchical, critical keys first (Sec. 5.4.3)
   const longGap = await client.synthesize({ keyFrames: [0, 1500], keyChannels: [...row, ...row.map((v, i) => (i === 0 ? 400 : v))], frames: 1501, post: true });
+  if (longGap.keyErrors.after.root > 1e-6 || longGap.stages.generatorMs !== longGap.times[0]) throw new Error(`named results: ${JSON.stringify(longGap.keyErrors)}`);
   if (longGap.frames !== 1501 || !longGap.criticalFrames.length || Math.abs(longGap.positions[1500 * 3 * client.skeleton.names.length] - 400) > 1e-3) {
     throw new Error(`a 1,500-frame gap: ${longGap.frames} frames, critical keys ${longGap.criticalFrames}, root x at 1500: ${longGap.positions[1500 * 3 * client.skeleton.names.length]}, at 0: ${longGap.positions[0]}`);
   }
