@@ -35,8 +35,9 @@ import tempfile
 
 import numpy as np
 
-from data_pipeline import DATA, TRUE_FPS, VALIDATION, take_of
-from eval_tween import ROOT, cli, global_fk, read_bvh, rep_frames, resample
+from data_pipeline import DATA
+from eval_tween import ROOT, cli, global_fk, read_bvh, rep_frames
+from table54 import random_keys, validation_clips
 
 
 def local_poses(bvh):
@@ -65,42 +66,31 @@ def dna_errors(out, reps, keys):
 def measure(variation):
     rows, div, spread = [], [], []
     with tempfile.TemporaryDirectory() as tmp:
-        for cls in sorted(TRUE_FPS):
-            for name in sorted(os.listdir(os.path.join(DATA, cls))):
-                if take_of(cls, int(name[:-4])) not in VALIDATION:
-                    continue
-                clip = os.path.join(tmp, f"{cls}_{name}")
-                n = min(resample(os.path.join(DATA, cls, name), clip, TRUE_FPS[cls] // 60), 2048)
-                gt = read_bvh(clip)
-                rng = np.random.default_rng(0)
-                keys, t = [0], 0
-                while True:
-                    t += int(rng.integers(60, 301))
-                    if t >= n:
-                        break
-                    keys.append(t)
-                reps_idx = rep_frames(gt, max(1, keys[-1] // 180))
-                lam_gt = local_poses(gt)
-                reps = lam_gt[reps_idx]
+        for label, clip, n in validation_clips(tmp):
+            gt = read_bvh(clip)
+            keys = random_keys(n, 0)
+            reps_idx = rep_frames(gt, max(1, keys[-1] // 180))
+            lam_gt = local_poses(gt)
+            reps = lam_gt[reps_idx]
 
-                def run(extra, tag):
-                    out = os.path.join(tmp, f"{tag}.bvh")
-                    r = subprocess.run([cli(), "inbetween", "--from-bvh", clip, "--keys", ",".join(map(str, keys)),
-                                        "-o", out, "--method", "generator"] + variation + extra, capture_output=True, text=True)
-                    if r.returncode:
-                        sys.exit(f"{clip}: {r.stderr}")
-                    return local_poses(read_bvh(out))
+            def run(extra, tag):
+                out = os.path.join(tmp, f"{tag}.bvh")
+                r = subprocess.run([cli(), "inbetween", "--from-bvh", clip, "--keys", ",".join(map(str, keys)),
+                                    "-o", out, "--method", "generator"] + variation + extra, capture_output=True, text=True)
+                if r.returncode:
+                    sys.exit(f"{clip}: {r.stderr}")
+                return local_poses(read_bvh(out))
 
-                row = {"clip": f"{cls}/{name}", "frames": keys[-1] + 1, "keys": len(keys), "dna_poses": len(reps_idx)}
-                for tag, extra in (("without_dna", []), ("with_dna", ["--dna", ",".join(map(str, reps_idx))])):
-                    e1, e2 = dna_errors(run(extra, tag)[:keys[-1] + 1], reps, keys)
-                    row[tag] = {"dna_error_1": e1, "dna_error_2": e2}
-                outs = [run(["--dna", clip, "--seed", str(s)], f"seed{s}")[:keys[-1] + 1] for s in (1, 2, 3)]
-                mid = np.setdiff1d(np.arange(keys[-1] + 1), keys)
-                for a, b in itertools.combinations(outs, 2):
-                    div.append(float(dist(a[mid], b[mid]).mean()))
-                spread.append(float(dist(lam_gt[60:n], lam_gt[:n - 60]).mean()))
-                rows.append(row)
+            row = {"clip": label, "frames": keys[-1] + 1, "keys": len(keys), "dna_poses": len(reps_idx)}
+            for tag, extra in (("without_dna", []), ("with_dna", ["--dna", ",".join(map(str, reps_idx))])):
+                e1, e2 = dna_errors(run(extra, tag)[:keys[-1] + 1], reps, keys)
+                row[tag] = {"dna_error_1": e1, "dna_error_2": e2}
+            outs = [run(["--dna", clip, "--seed", str(s)], f"seed{s}")[:keys[-1] + 1] for s in (1, 2, 3)]
+            mid = np.setdiff1d(np.arange(keys[-1] + 1), keys)
+            for a, b in itertools.combinations(outs, 2):
+                div.append(float(dist(a[mid], b[mid]).mean()))
+            spread.append(float(dist(lam_gt[60:n], lam_gt[:n - 60]).mean()))
+            rows.append(row)
     return rows, div, spread
 
 

@@ -25,6 +25,28 @@ from eval_tween import ROOT, cli, resample
 PAIR = re.compile(r"root ([0-9.]+), joints ([0-9.]+)")
 
 
+def validation_clips(tmp, max_frames=2048):
+    """(class/name, path of the clip at 60 fps in tmp, frames used: at most
+    max_frames) for every validation take."""
+    for cls in sorted(TRUE_FPS):
+        for name in sorted(os.listdir(os.path.join(DATA, cls))):
+            if take_of(cls, int(name[:-4])) in VALIDATION:
+                clip = os.path.join(tmp, f"{cls}_{name}")
+                n = resample(os.path.join(DATA, cls, name), clip, TRUE_FPS[cls] // 60)
+                yield f"{cls}/{name}", clip, min(n, max_frames)
+
+
+def random_keys(n, seed):
+    """Keys from frame 0 at random steps of 1 to 5 s (60 to 300 frames), inside n frames."""
+    rng = np.random.default_rng(seed)
+    keys, t = [0], 0
+    while True:
+        t += int(rng.integers(60, 301))
+        if t >= n:
+            return keys
+        keys.append(t)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--seeds", type=int, default=5, help="random key sets per clip")
@@ -34,30 +56,19 @@ def main():
         sys.exit(f"SKIP: {DATA} is absent")
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        for cls in sorted(TRUE_FPS):
-            for name in sorted(os.listdir(os.path.join(DATA, cls))):
-                if take_of(cls, int(name[:-4])) not in VALIDATION:
-                    continue
-                clip = os.path.join(tmp, f"{cls}_{name}")
-                n = min(resample(os.path.join(DATA, cls, name), clip, TRUE_FPS[cls] // 60), args.max_frames)
-                for seed in range(args.seeds):
-                    rng = np.random.default_rng(seed)
-                    keys, t = [0], 0
-                    while True:
-                        t += int(rng.integers(60, 301))  # 1 to 5 s at 60 fps
-                        if t >= n:
-                            break
-                        keys.append(t)
-                    out = os.path.join(tmp, "out.bvh")
-                    for method in ("generator", "model"):
-                        r = subprocess.run([cli(), "inbetween", "--from-bvh", clip, "--keys", ",".join(map(str, keys)),
-                                            "-o", out, "--method", method], capture_output=True, text=True)
-                        if r.returncode:
-                            sys.exit(f"{clip}: {r.stderr}")
-                        pairs = [tuple(map(float, p)) for p in PAIR.findall(r.stderr)]
-                        rows.append({"clip": f"{cls}/{name}", "frames": keys[-1] + 1, "keys": len(keys), "method": method,
-                                     "before": pairs[0] if pairs else None, "after": pairs[1] if len(pairs) > 1 else None,
-                                     "log": r.stderr.strip()[:200]})
+        for label, clip, n in validation_clips(tmp, args.max_frames):
+            for seed in range(args.seeds):
+                keys = random_keys(n, seed)
+                out = os.path.join(tmp, "out.bvh")
+                for method in ("generator", "model"):
+                    r = subprocess.run([cli(), "inbetween", "--from-bvh", clip, "--keys", ",".join(map(str, keys)),
+                                        "-o", out, "--method", method], capture_output=True, text=True)
+                    if r.returncode:
+                        sys.exit(f"{clip}: {r.stderr}")
+                    pairs = [tuple(map(float, p)) for p in PAIR.findall(r.stderr)]
+                    rows.append({"clip": label, "frames": keys[-1] + 1, "keys": len(keys), "method": method,
+                                 "before": pairs[0] if pairs else None, "after": pairs[1] if len(pairs) > 1 else None,
+                                 "log": r.stderr.strip()[:200]})
     res = {}
     for method in ("generator", "model"):
         rs = [r for r in rows if r["method"] == method and r["before"]]

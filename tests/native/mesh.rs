@@ -665,33 +665,26 @@ fn the_cli_writes_the_topology_of_an_obj_file() {
     let obj = dir.join("sheet.obj");
     std::fs::write(&obj, grid_obj(20, 20, 0.0, 0)).unwrap();
     let out = dir.join("sheet.json");
-    let bin = env!("CARGO_BIN_EXE_deeprep");
-    let r = std::process::Command::new(bin)
-        .args([
-            "mesh",
-            "topology",
-            obj.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
+    let topology = || {
+        std::process::Command::new(env!("CARGO_BIN_EXE_deeprep"))
+            .args([
+                "mesh",
+                "topology",
+                obj.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+            ])
+            .output()
+            .unwrap()
+    };
+    let r = topology();
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     let doc: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
     assert_eq!(doc["rest"].as_array().unwrap().len(), 400);
     assert!(doc["levels"].as_array().unwrap().len() >= 3);
     std::fs::write(&obj, "v 0 0 0\nf 1 2 3\n").unwrap();
-    let r = std::process::Command::new(bin)
-        .args([
-            "mesh",
-            "topology",
-            obj.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
+    let r = topology();
     assert!(!r.status.success());
     assert!(
         String::from_utf8_lossy(&r.stderr).contains("line 2"),
