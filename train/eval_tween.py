@@ -49,7 +49,7 @@ from data_pipeline import DATA, TRUE_FPS, VALIDATION, take_of  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 GAPS = [int(g) for g in os.environ.get("EVAL_GAPS", "30,60,120,300").split(",")]
-METHODS = os.environ.get("EVAL_METHODS", "zerovel,slerp,model,model-lock,variation-1,residual").split(",")
+METHODS = os.environ.get("EVAL_METHODS", "zerovel,slerp,model,model-lock,variation-1,residual,residual-1").split(",")
 # "model-nolock": the model with post-processing that makes keys exact
 # but leaves the feet as synthesized (CLI --no-foot-lock).
 METHOD_ARGS = {"model-nolock": ["--method", "model", "--no-foot-lock"],
