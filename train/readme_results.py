@@ -60,7 +60,7 @@ if resid and "residual@30" in ev:
     R = "residual-1" if "residual-1@30" in ev else "residual"  # the network as trained, issue 19's "networks alone"
     fmt = lambda m, k: "/".join(f"{ev[f'{m}@{g}'][k]:.2f}" for g in gaps)  # noqa: E731
     rw = lambda k: ", ".join(map(str, wins(R, k))) or "none"  # noqa: E731
-    npss_margin = ", ".join(f"{100 * (1 - ev[f'{R}@{g}']['NPSS'] / ev[f'slerp@{g}']['NPSS']):.1f}%" for g in gaps)
+    npss_margin = ", ".join(f"{100 * (1 - ev[f'{R}@{g}']['NPSS'] / ev[f'slerp@{g}']['NPSS']):.2f}%" for g in gaps)
     far = [g for g in (120, 300) if abs(1 - ev[f"{R}@{g}"]["speed_ratio"]) > 0.3]
     speed_ok = "met" if not far else "not met at " + ", ".join(map(str, far))
     res_row = (f"| `tween_residual.onnx` | the same frames, mirrored, {resid['training']['steps']:,} steps × 8 windows of 360-480 frames "
