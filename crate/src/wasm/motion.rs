@@ -352,7 +352,7 @@ impl Inbetweener {
         variation: Option<f32>,
     ) -> Result<InbetweenResult, JsError> {
         let keys = keys_from_channels(&self.inner.template, key_frames, key_channels)?;
-        self.run_residual(&keys, frames, variation)
+        self.run_residual(&keys, frames, variation, false)
     }
 
     /// The SLERP+LERP baseline on the same inputs (labelled as such in UIs).
@@ -383,7 +383,7 @@ impl Inbetweener {
         let keys = doc.file.keys;
         match doc.method.as_str() {
             "slerp" => self.run_slerp(&keys, frames),
-            "residual" => self.run_residual(&keys, frames, doc.variation),
+            "residual" => self.run_residual(&keys, frames, doc.variation, doc.foot_lock),
             _ => self.run_model(
                 keys,
                 frames,
@@ -408,30 +408,12 @@ impl Inbetweener {
     ) -> Result<InbetweenResult, JsError> {
         // the residual network where its manifest makes it the model for
         // whole-pose keys without DNA (as the CLI's --method model)
-        if let Some(r) = self
+        if self
             .residual
             .as_ref()
-            .filter(|r| post_process && r.serves(&keys, dna.is_some()))
+            .is_some_and(|r| post_process && r.serves(&keys, dna.is_some()))
         {
-            let t0 = js_sys::Date::now();
-            let mut m = r
-                .synthesize(&keys, frames, variation.unwrap_or(r.default_variation))
-                .map_err(js_err)?;
-            if foot_lock {
-                crate::motion::feet::lock_feet(
-                    &mut m,
-                    &r.template,
-                    &keys,
-                    &crate::motion::feet::FootLock::default(),
-                );
-            }
-            let ms = js_sys::Date::now() - t0;
-            return result_from(
-                &self.inner.template,
-                &m,
-                vec![ms, 0.0, 0.0, 0.0],
-                vec![0.0; 4],
-            );
+            return self.run_residual(&keys, frames, variation, foot_lock);
         }
         let req = crate::motion::pipeline::Request {
             keys,
@@ -459,27 +441,26 @@ impl Inbetweener {
         Ok(r)
     }
 
+    /// The residual network on whole-pose keys, then foot locking if asked.
     fn run_residual(
         &self,
         keys: &[crate::motion::Keyframe],
         frames: usize,
         variation: Option<f32>,
+        foot_lock: bool,
     ) -> Result<InbetweenResult, JsError> {
         let r = self
             .residual
             .as_ref()
             .ok_or_else(|| JsError::new("the residual network is not loaded (setResidual)"))?;
-        let t0 = js_sys::Date::now();
-        let m = r
-            .synthesize(keys, frames, variation.unwrap_or(r.default_variation))
-            .map_err(js_err)?;
-        let ms = js_sys::Date::now() - t0;
-        result_from(
-            &self.inner.template,
-            &m,
-            vec![ms, 0.0, 0.0, 0.0],
-            vec![0.0; 4],
-        )
+        self.timed(|| {
+            let mut m = r.synthesize(keys, frames, variation.unwrap_or(r.default_variation))?;
+            if foot_lock {
+                let cfg = crate::motion::feet::FootLock::default();
+                crate::motion::feet::lock_feet(&mut m, &r.template, keys, &cfg);
+            }
+            Ok(m)
+        })
     }
 
     fn run_slerp(
@@ -487,8 +468,16 @@ impl Inbetweener {
         keys: &[crate::motion::Keyframe],
         frames: usize,
     ) -> Result<InbetweenResult, JsError> {
+        self.timed(|| crate::motion::baseline::slerp_lerp(keys, frames))
+    }
+
+    /// A one-stage result: `run`'s motion, its time as the first stage's.
+    fn timed(
+        &self,
+        run: impl FnOnce() -> crate::error::Result<crate::motion::Motion>,
+    ) -> Result<InbetweenResult, JsError> {
         let t0 = js_sys::Date::now();
-        let m = crate::motion::baseline::slerp_lerp(keys, frames).map_err(js_err)?;
+        let m = run().map_err(js_err)?;
         let ms = js_sys::Date::now() - t0;
         result_from(
             &self.inner.template,
