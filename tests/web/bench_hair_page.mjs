@@ -2,15 +2,10 @@
 // columns: preprocessing (Gabor orientation filter), inference (image ->
 // strand features), reconstruction at 1,024 / 9,000 / 30,000 strands.
 // Prints JSON. Usage: node tests/web/bench_hair_page.mjs [--smoke]
-import { launch, startServer } from './chromium.mjs';
+import { withBenchPage } from './chromium.mjs';
 
 const smoke = process.argv.includes('--smoke');
-const server = await startServer();
-const browser = await launch();
-try {
-  const page = await browser.context.newPage();
-  await page.goto(`${server.url}/web/rotations.html`);
-  await page.waitForSelector('body[data-ready="1"]', { timeout: 120_000 });
+await withBenchPage(async (page) => {
   const row = await page.evaluate(async ({ reps }) => {
     const m = await import('./pkg/deeprep.js');
     const get = (u) => fetch(u).then((r) => { if (!r.ok) throw new Error(`${u}: ${r.status}`); return r.arrayBuffer(); }).then((b) => new Uint8Array(b));
@@ -32,7 +27,4 @@ try {
     return out;
   }, { reps: smoke ? 1 : 3 });
   console.log(JSON.stringify({ bench: 'hair', target: 'wasm (headless Chromium, 1 thread)', ...row }, null, 1));
-} finally {
-  await browser.close();
-  await server.close();
-}
+});

@@ -5,7 +5,7 @@
 // Usage: node tests/web/bench_mesh_page.mjs [--smoke]
 import fs from 'node:fs';
 import path from 'node:path';
-import { launch, startServer, ROOT } from './chromium.mjs';
+import { withBenchPage, ROOT } from './chromium.mjs';
 
 const GLB = path.resolve(process.env.DEEPREP_DATA || path.join(ROOT, '..', 'shared', 'data'), 'gltf', 'RobotExpressive.glb');
 if (!fs.existsSync(GLB)) {
@@ -13,12 +13,7 @@ if (!fs.existsSync(GLB)) {
   process.exit(0);
 }
 const smoke = process.argv.includes('--smoke');
-const server = await startServer();
-const browser = await launch();
-try {
-  const page = await browser.context.newPage();
-  await page.goto(`${server.url}/web/rotations.html`);
-  await page.waitForSelector('body[data-ready="1"]', { timeout: 120_000 });
+await withBenchPage(async (page) => {
   const row = await page.evaluate(async ({ reps }) => {
     const m = await import('./pkg/deeprep.js');
     const get = (u) => fetch(u).then((r) => { if (!r.ok) throw new Error(`${u}: ${r.status}`); return r.arrayBuffer(); }).then((b) => new Uint8Array(b));
@@ -38,7 +33,4 @@ try {
     return { vertices: lab.vertexCount, load_glb_sample_and_models_ms: load, encode_ms: median(enc), decode_ms: median(dec), reps };
   }, { reps: smoke ? 1 : 20 });
   console.log(JSON.stringify({ bench: 'mesh', target: 'wasm (headless Chromium, 1 thread)', ...row }, null, 1));
-} finally {
-  await browser.close();
-  await server.close();
-}
+});

@@ -5,7 +5,7 @@
 // (which builds tract's plan), the ratio tract / onnxruntime-web, and the
 // largest difference between their outputs.
 // Usage: node tests/web/bench_ort_page.mjs [--smoke]
-import { launch, startServer } from './chromium.mjs';
+import { withBenchPage } from './chromium.mjs';
 
 const smoke = process.argv.includes('--smoke');
 // [name, model file, inputs {name: shape}, input value range, fold factors]
@@ -24,12 +24,7 @@ const CASES = [
   ['tween_residual, 2048 frames', 'tween_residual', { x: [1, 265, 2048] }],
 ];
 const cases = smoke ? CASES.filter(([n]) => ['rot6d_autoencoder', 'tween_generator, 512 frames'].includes(n)) : CASES;
-const server = await startServer();
-const browser = await launch();
-try {
-  const page = await browser.context.newPage();
-  await page.goto(`${server.url}/web/rotations.html`);
-  await page.waitForSelector('body[data-ready="1"]', { timeout: 120_000 });
+await withBenchPage(async (page) => {
   const rows = await page.evaluate(async ({ cases, reps }) => {
     const m = await import('./pkg/deeprep.js');
     const ort = await import('../node_modules/onnxruntime-web/dist/ort.wasm.min.mjs');
@@ -67,7 +62,4 @@ try {
   }, { cases, reps: smoke ? 1 : 5 });
   console.log(JSON.stringify({ bench: 'tract_vs_onnxruntime_web', target: 'headless Chromium, wasm SIMD, one thread',
                                onnxruntime_web: '1.30.0', rows }, null, 1));
-} finally {
-  await browser.close();
-  await server.close();
-}
+});

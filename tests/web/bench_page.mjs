@@ -2,16 +2,11 @@
 // stage for 512, 1024, 2048 and 4096 frames, and the SLERP+LERP baseline on
 // the same keys; the first call and the best total again with the models
 // prepared for any length (Inbetweener.prepareAnyLength, as the npm worker). Prints JSON. Usage: node tests/web/bench_page.mjs [--smoke]
-import { launch, startServer } from './chromium.mjs';
+import { withBenchPage } from './chromium.mjs';
 
 const smoke = process.argv.includes('--smoke');
 const sizes = smoke ? [512] : [512, 1024, 2048, 4096];
-const server = await startServer();
-const browser = await launch();
-try {
-  const page = await browser.context.newPage();
-  await page.goto(`${server.url}/web/rotations.html`);
-  await page.waitForSelector('body[data-ready="1"]', { timeout: 120_000 });
+await withBenchPage(async (page) => {
   const rows = await page.evaluate(async ({ sizes, reps }) => {
     const m = await import('./pkg/deeprep.js');
     const get = (u) => fetch(u).then((r) => r.arrayBuffer()).then((b) => new Uint8Array(b));
@@ -56,7 +51,4 @@ try {
     return out;
   }, { sizes, reps: smoke ? 1 : 3 });
   console.log(JSON.stringify({ bench: 'inbetween', target: 'wasm (headless Chromium, SwiftShader, 1 thread)', rows }, null, 1));
-} finally {
-  await browser.close();
-  await server.close();
-}
+});

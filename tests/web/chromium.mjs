@@ -36,6 +36,26 @@ export async function startServer() {
   return { url: `http://127.0.0.1:${server.address().port}`, close: () => new Promise((r) => server.close(r)) };
 }
 
+/**
+ * The benchmarks' page: serves the repository, opens web/rotations.html in
+ * a fresh headless Chromium (its ./pkg/deeprep.js is the wasm package),
+ * waits for it, runs `run(page)` and closes everything; returns what `run`
+ * returns.
+ */
+export async function withBenchPage(run) {
+  const server = await startServer();
+  const browser = await launch();
+  try {
+    const page = await browser.context.newPage();
+    await page.goto(`${server.url}/web/rotations.html`);
+    await page.waitForSelector('body[data-ready="1"]', { timeout: 120_000 });
+    return await run(page);
+  } finally {
+    await browser.close();
+    await server.close();
+  }
+}
+
 /** Collects console errors and page errors. */
 export function watchErrors(page) {
   const errors = [];
