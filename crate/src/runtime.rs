@@ -322,20 +322,20 @@ fn widen_half_weights(g: &mut tract_onnx::pb::GraphProto) -> Result<usize> {
         }
     }
     g.node = kept;
-    let read: std::collections::HashSet<&str> = g
-        .node
-        .iter()
-        .flat_map(|n| n.input.iter().map(|s| s.as_str()))
-        .chain(g.output.iter().map(|o| o.name.as_str()))
-        .collect();
-    let keep: Vec<bool> = g
-        .initializer
-        .iter()
-        .map(|t| t.data_type != FLOAT16 || read.contains(t.name.as_str()))
-        .collect();
-    let mut k = keep.into_iter();
-    g.initializer.retain(|_| k.next().unwrap_or(true));
+    let read = read_names(g);
+    g.initializer
+        .retain(|t| t.data_type != FLOAT16 || read.contains(&t.name));
     Ok(widened)
+}
+
+/// The names the graph's nodes take as inputs, and its outputs: what an
+/// initializer must be called to be used.
+fn read_names(g: &tract_onnx::pb::GraphProto) -> std::collections::HashSet<String> {
+    g.node
+        .iter()
+        .flat_map(|n| n.input.iter().cloned())
+        .chain(g.output.iter().map(|o| o.name.clone()))
+        .collect()
 }
 
 /// The values of a FLOAT16 initializer as f32, from `raw_data` (2 bytes
@@ -445,13 +445,7 @@ fn fold_constant_matmuls(g: &mut tract_onnx::pb::GraphProto) -> Result<usize> {
         kept.push(node);
     }
     g.node = kept;
-    let used: std::collections::HashSet<&str> = g
-        .node
-        .iter()
-        .flat_map(|n| n.input.iter().map(|s| s.as_str()))
-        .chain(g.output.iter().map(|o| o.name.as_str()))
-        .collect::<std::collections::HashSet<_>>();
-    let used: std::collections::HashSet<String> = used.into_iter().map(String::from).collect();
+    let used = read_names(g);
     let dropped: std::collections::HashSet<String> = g
         .initializer
         .iter()
