@@ -375,8 +375,26 @@ def losses(net, skel, batch, w):
         contact = ((gfp[:, 1:, :, 1] < floor + 5 / SCALE) & (gv < 1 / SCALE)).float()
         v = (fp[:, 1:] - fp[:, :-1])[..., [0, 2]].norm(dim=-1)
         out["foot"] = (v * contact).sum() / contact.sum().clamp(min=1) * 10
+    if w.get("spectral"):
+        # short-time spectra of the root-relative positions (64-frame Hann
+        # windows, hop 16): NPSS compares power spectra of short windows, and
+        # an L1 on positions alone lets the output be smoother than the truth
+        out["spectral"] = spectral_l1(pos - pos[:, :, :1], gpos - gpos[:, :, :1])
     out["total"] = sum(w[k] * v for k, v in out.items() if w.get(k))
     return out
+
+
+def spectral_l1(a, b, n_fft=64, hop=16):
+    """Mean L1 between the short-time magnitude spectra of a and b
+    [B,N,J,3] along N, in the signals' units (magnitudes over n_fft/2)."""
+    B, N = a.shape[:2]
+    win = torch.hann_window(n_fft)
+
+    def mag(x):
+        x = x.reshape(B, N, -1).transpose(1, 2).reshape(-1, N)
+        return torch.stft(x, n_fft, hop, window=win, center=False, return_complex=True).abs()
+
+    return (mag(a) - mag(b)).abs().mean() / (n_fft / 2) * 10
 
 
 def train(args):
@@ -414,7 +432,7 @@ def train(args):
         g["lr"] = args.lr
     print(f"parameters: {sum(p.numel() for p in net.parameters()):,}", flush=True)
     w = {"pos": 1.0, "rot": 0.5, "root": 1.0, "vel": 1.0, "speed": args.speed_weight, "foot": args.foot_weight,
-         "l2p": args.l2p_weight}
+         "l2p": args.l2p_weight, "spectral": args.spectral_weight}
     skel.inv_sd = torch.from_numpy(1.0 / l2p_stats()[1]).float()
     log = open(os.path.join(args.out, "log.jsonl"), "a")
     t0, last = time.time(), time.time()
@@ -644,6 +662,8 @@ def main():
     ap.add_argument("--foot-weight", type=float, default=0.0)
     ap.add_argument("--l2p-weight", type=float, default=0.0,
                     help="weight of the position loss in L2P's units (per-coordinate spread)")
+    ap.add_argument("--spectral-weight", type=float, default=0.0,
+                    help="weight of the short-time spectrum loss on root-relative positions (NPSS's view)")
     ap.add_argument("--dilations", type=lambda s: tuple(int(x) for x in s.split(",")), default=DILATIONS,
                     help="one residual block per dilation; resuming with more than saved appends identity blocks")
     ap.add_argument("--resume", action="store_true")
