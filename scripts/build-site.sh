@@ -10,6 +10,7 @@ if [ "${1:-}" = "--opt" ] || [ ! -f web/pkg/deeprep_bg.wasm ] || [ ! -f web/pkg-
 rm -rf web/dist
 mkdir -p web/dist/web web/dist/models/onnx web/dist/models/examples
 cp web/*.html web/*.js web/dist/web/
+cp -r web/lib web/sketch web/dist/web/
 cp -r web/pkg web/dist/web/pkg
 cp -r web/pkg-core web/dist/web/pkg-core
 cp models/onnx/*.onnx models/onnx/*.manifest.json web/dist/models/onnx/

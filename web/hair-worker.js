@@ -7,7 +7,7 @@
 //      gpu: decode on WebGPU compute (opened on first use); rejects where WebGPU is missing
 //   <- {type: 'error', id, message}
 import init, { HairLab } from './pkg/deeprep.js';
-import { fetchBytes, fetchText } from './common.js';
+import { fetchBytes, fetchText } from './lib/fetch.js';
 
 let lab = null;
 let gpu = null;

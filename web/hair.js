@@ -3,7 +3,8 @@
 // smoothed and curled, and drawn around the collision body; two results
 // interpolate in strand-feature space (Fig. B.2).
 import init from './pkg/deeprep.js';
-import { latestRunner, openView, wireOrbit, workerClient } from './common.js';
+import { latestRunner, workerClient } from './lib/workers.js';
+import { openView, wireOrbit } from './lib/view.js';
 
 const MODEL_BASE = new URL('../models/onnx', import.meta.url).href;
 const params = new URLSearchParams(location.search);

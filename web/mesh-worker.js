@@ -6,7 +6,7 @@
 //   -> {type: 'blend', id, a, b, vertex, t}   <- {positions, decodeMs}
 //   <- {type: 'progress', id, stage} ... | {type: 'error', id, message}
 import init, { MeshLab } from './pkg/deeprep.js';
-import { fetchBytes, fetchText } from './common.js';
+import { fetchBytes, fetchText } from './lib/fetch.js';
 
 let lab = null;
 const ready = init();

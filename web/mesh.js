@@ -5,7 +5,8 @@
 // crate's wgpu renderer (WebGPU, or WebGL2 when WebGPU is missing or its
 // device is lost; `?webgl2` forces WebGL2).
 import init from './pkg/deeprep.js';
-import { latestRunner, openView, wireOrbit, workerClient } from './common.js';
+import { latestRunner, workerClient } from './lib/workers.js';
+import { openView, wireOrbit } from './lib/view.js';
 
 const MODEL_BASE = new URL('../models/onnx', import.meta.url).href;
 const params = new URLSearchParams(location.search);

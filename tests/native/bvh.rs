@@ -182,6 +182,24 @@ fn fk_matches_hand_computed_positions() {
 }
 
 #[test]
+fn fk_of_one_row_matches_the_clip_and_checks_the_row() {
+    let b = Bvh::parse(&fixture(4)).unwrap();
+    for f in 0..4 {
+        let whole = fk::positions(&b, f, f + 1).unwrap();
+        assert_eq!(fk::pose_positions(&b, b.frame(f)).unwrap(), whole);
+    }
+    let short = fk::pose_positions(&b, &[0.0; 17]).unwrap_err().to_string();
+    assert!(
+        short.contains("18 channel values") && short.contains("17"),
+        "{short}"
+    );
+    let mut row = b.frame(0).to_vec();
+    row[5] = f32::NAN;
+    let nan = fk::pose_positions(&b, &row).unwrap_err().to_string();
+    assert!(nan.contains("channel value 5"), "{nan}");
+}
+
+#[test]
 fn fk_keeps_bone_lengths() {
     let b = Bvh::parse(&fixture(20)).unwrap();
     let p = fk::positions(&b, 0, 20).unwrap();

@@ -208,6 +208,45 @@ test('sketch page: a hostile BVH import fails cleanly and synthesis still works'
   assert.deepEqual(errors, []);
 });
 
+test('sketch page: seeded Motion DNA is drawn by the core, from an imported clip as the CLI draws it', async () => {
+  const page = await browser.context.newPage();
+  const errors = watchErrors(page);
+  await page.goto(`${server.url}/web/index.html`);
+  await page.waitForSelector('body[data-ready="1"]', { timeout: 120_000 });
+  const dna = (seed) => page.evaluate((s) => { document.getElementById('seed').value = String(s); return window.deeprepSketch.dnaChannels(); }, seed);
+  await page.fill('#length', '900');
+  await page.dispatchEvent('#length', 'change');
+  // From the pose library: dna_count(900) = 5 poses, repeatable per seed.
+  const c = await page.evaluate(() => window.deeprepState.skeleton.channels);
+  const pool = await dna(3);
+  assert.equal(pool.length, 5 * c);
+  assert.deepEqual(await dna(3), pool);
+  // From a clip: the page's own 300-frame result, exported and imported.
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#export')]);
+  const text = fs.readFileSync(await download.path(), 'utf8');
+  await page.setInputFiles('#import', { name: 'mine.bvh', mimeType: 'text/plain', buffer: Buffer.from(text) });
+  await page.waitForFunction(() => /seeded DNA is drawn from it/.test(document.getElementById('status').textContent), null, { timeout: 60_000 });
+  // a 120-frame output: the seed places a 120-frame window in the 300-frame
+  // clip and its representative frame is the DNA (with an output as long as
+  // the clip, every seed would see the whole clip, as in the CLI)
+  await page.fill('#length', '120');
+  await page.dispatchEvent('#length', 'change');
+  const a = await dna(3), b = await dna(4);
+  const rows = text.split('Frame Time:')[1].trim().split('\n').slice(1).map((l) => l.trim().split(/\s+/).map(Number));
+  assert.ok(a.length >= c && a.length % c === 0, `DNA of ${a.length} values`);
+  for (let i = 0; i < a.length; i += c) {
+    const row = a.slice(i, i + c);
+    assert.ok(rows.some((r) => r.every((v, j) => Math.abs(v - row[j]) < 1e-3)), `DNA pose ${i / c} is not a frame of the clip`);
+  }
+  const seeds = await Promise.all([5, 6, 7, 8].map(dna));
+  assert.ok([b, ...seeds].some((d) => JSON.stringify(d) !== JSON.stringify(a)), 'different seeds should draw different DNA');
+  // a bad seed is an error, not NaN DNA
+  await page.evaluate(() => { document.getElementById('seed').value = '-1'; });
+  await page.click('#synth');
+  await page.waitForFunction(() => /synthesis failed: seed/.test(document.getElementById('status').textContent), null, { timeout: 60_000 });
+  assert.deepEqual(errors, []);
+});
+
 test('sketch page: a root path drawn on the ground (root-only keys, Sec. 5.4.1)', async () => {
   const page = await browser.context.newPage();
   const errors = watchErrors(page);

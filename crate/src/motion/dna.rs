@@ -11,6 +11,7 @@
 use super::Keyframe;
 use crate::error::{Error, Result};
 use crate::rng::Rng;
+use crate::skeleton::Bvh;
 
 /// Training's representative-frame count: one per this many frames.
 pub const FRAMES_PER_DNA: usize = 180;
@@ -88,6 +89,38 @@ pub fn pick_dna_frames(poses: &[Keyframe], frames: usize, seed: u64) -> Result<V
     )
 }
 
+/// Seeded DNA from every frame of a clip on the model's skeleton:
+/// [`pick_dna_frames`] on its poses. What `deeprep inbetween --dna CLIP.bvh
+/// --seed S` and the sketch page (on an imported clip) both draw.
+pub fn pick_from_clip(clip: &Bvh, frames: usize, seed: u64) -> Result<Vec<usize>> {
+    if let Some(i) = clip.motion.iter().position(|v| !v.is_finite()) {
+        let c = clip.channel_count().max(1);
+        return Err(Error::Invalid(format!(
+            "DNA frame {} has a non-finite channel value (channel {})",
+            i / c,
+            i % c
+        )));
+    }
+    let poses = (0..clip.frame_count())
+        .map(|f| Keyframe::from_bvh(clip, f, f))
+        .collect::<Result<Vec<_>>>()?;
+    pick_dna_frames(&poses, frames, seed)
+}
+
+/// Seeded DNA from a pool of `pool` unrelated poses (a pose library, not a
+/// clip: there are no neighbouring frames to measure change between):
+/// [`dna_count`]`(frames)` indices drawn uniformly by the same generator as
+/// [`pick_dna_frames`], repeats allowed. Equal seeds give equal picks.
+pub fn pick_from_pool(pool: usize, frames: usize, seed: u64) -> Result<Vec<usize>> {
+    if pool == 0 {
+        return Err(Error::Invalid("the DNA pool has no poses".into()));
+    }
+    let mut rng = Rng::new(seed);
+    Ok((0..dna_count(frames))
+        .map(|_| ((rng.uniform() * pool as f64) as usize).min(pool - 1))
+        .collect())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -147,6 +180,19 @@ mod tests {
             !long.is_empty() && long.iter().all(|&i| i < 100),
             "{long:?}"
         );
+    }
+
+    #[test]
+    fn pool_picks_are_seeded_in_range_and_counted_like_clips() {
+        let a = pick_from_pool(6, 900, 7).unwrap();
+        assert_eq!(a.len(), dna_count(900));
+        assert!(a.iter().all(|&i| i < 6), "{a:?}");
+        assert_eq!(a, pick_from_pool(6, 900, 7).unwrap());
+        let others: Vec<_> = (8..14)
+            .map(|s| pick_from_pool(6, 900, s).unwrap())
+            .collect();
+        assert!(others.iter().any(|o| *o != a), "{a:?} {others:?}");
+        assert!(pick_from_pool(0, 100, 0).is_err());
     }
 
     #[test]

@@ -84,6 +84,29 @@ pub fn positions(bvh: &Bvh, start: usize, end: usize) -> Result<Vec<f32>> {
     Ok(out)
 }
 
+/// Global joint positions of one channel row on `bvh`'s skeleton, flat
+/// `joints × 3` (`f32`): FK of a pose that is not one of the clip's frames
+/// (a key being edited). The row must have the skeleton's channel count.
+pub fn pose_positions(bvh: &Bvh, row: &[f32]) -> Result<Vec<f32>> {
+    let c = bvh.channel_count();
+    if row.len() != c {
+        return Err(Error::Invalid(format!(
+            "a pose has {c} channel values on this skeleton, found {}",
+            row.len()
+        )));
+    }
+    if let Some(i) = row.iter().position(|v| !v.is_finite()) {
+        return Err(Error::Invalid(format!(
+            "channel value {i} of the pose is not finite"
+        )));
+    }
+    Ok(global_pose(bvh, row)
+        .positions
+        .iter()
+        .flat_map(|p| [p.x as f32, p.y as f32, p.z as f32])
+        .collect())
+}
+
 /// Every joint's local transform in every frame, the form animation
 /// systems take (three.js `AnimationClip` tracks, glTF channels).
 #[derive(Clone, Debug, PartialEq)]

@@ -9,6 +9,13 @@ pub struct BvhClip {
     inner: crate::skeleton::Bvh,
 }
 
+impl BvhClip {
+    /// The parsed clip (for the other wasm modules).
+    pub(crate) fn bvh(&self) -> &crate::skeleton::Bvh {
+        &self.inner
+    }
+}
+
 #[wasm_bindgen]
 impl BvhClip {
     /// Parses BVH text. Throws an `Error` naming the line on malformed input.
@@ -76,6 +83,14 @@ impl BvhClip {
     #[wasm_bindgen(js_name = fkPositions)]
     pub fn fk_positions(&self, start: usize, end: usize) -> Result<Vec<f32>, JsError> {
         crate::skeleton::fk::positions(&self.inner, start, end).map_err(js_err)
+    }
+
+    /// Global joint positions of one channel row on this clip's skeleton
+    /// (a pose that is not one of its frames, such as a key being edited),
+    /// `joints × 3`. Throws on a row of the wrong length or a non-finite value.
+    #[wasm_bindgen(js_name = poseFk)]
+    pub fn pose_fk(&self, channels: &[f32]) -> Result<Vec<f32>, JsError> {
+        crate::skeleton::fk::pose_positions(&self.inner, channels).map_err(js_err)
     }
 
     /// Writes the clip as BVH text.

@@ -265,18 +265,10 @@ fn dna_poses(
         ),
         None => {
             file = load(spec)?;
-            let all: Vec<usize> = (0..file.frame_count()).collect();
             let picked = match o.seed {
-                Some(seed) => {
-                    let poses = all
-                        .iter()
-                        .map(|&f| Keyframe::from_bvh(&file, f, f))
-                        .collect::<Result<Vec<_>, _>>()
-                        .map_err(|e| format!("--dna {spec}: {e}"))?;
-                    deeprep::motion::dna::pick_dna_frames(&poses, out_frames, seed)
-                        .map_err(|e| format!("--dna {spec}: {e}"))?
-                }
-                None => all,
+                Some(seed) => deeprep::motion::dna::pick_from_clip(&file, out_frames, seed)
+                    .map_err(|e| format!("--dna {spec}: {e}"))?,
+                None => (0..file.frame_count()).collect(),
             };
             (&file, picked)
         }

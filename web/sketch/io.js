@@ -1,0 +1,48 @@
+// BVH export of the result, BVH import (parsed in the worker) into the pose
+// library and as the seeded DNA source, and the library's lists.
+import { $, setStatus, state } from './state.js';
+import { draw } from './view.js';
+
+export function exportBvh() {
+  if (!state.result) { setStatus('synthesize first: nothing to export yet', true); return; }
+  const a = document.createElement('a');
+  a.href = URL.createObjectURL(new Blob([state.result.bvh], { type: 'text/plain' }));
+  a.download = `deeprep-${state.result.frames}f.bvh`;
+  a.click();
+  setTimeout(() => URL.revokeObjectURL(a.href), 1000);
+}
+
+export async function importBvh(file) {
+  try {
+    // Parsed and checked in the synthesis worker: a hostile file can at worst
+    // cost that worker (which the client replaces), never this page.
+    const clip = await state.client.importBvh(new Uint8Array(await file.arrayBuffer()))
+      .catch((e) => { throw new Error(`${file.name}: ${e.message}`); });
+    const c = clip.channelCount, m = clip.motion, step = Math.max(1, Math.round(0.5 / clip.frameTime));
+    let added = 0;
+    for (let f = 0; f < clip.frameCount; f += step) {
+      state.library.push({ name: `${file.name} @${f}`, channels: Array.from(m.subarray(f * c, (f + 1) * c)) });
+      added++;
+    }
+    if (c === state.skeleton.channels) state.dnaClip = { name: file.name, motion: Float32Array.from(m) };
+    state.result = { positions: clip.positions, frames: clip.frameCount, bvh: clip.bvh, method: 'imported' };
+    $('method-badge').textContent = `imported ${file.name}`;
+    fillLibrary();
+    setStatus(`imported ${file.name}: ${added} poses added to the library` + (state.dnaClip?.name === file.name ? '; seeded DNA is drawn from it' : ''));
+    draw();
+    state.view.frame();
+    draw();
+  } catch (e) {
+    setStatus(`import failed: ${e.message}`, true);
+  }
+}
+
+/** Refills the pose and DNA lists from the library, keeping the selection. */
+export function fillLibrary() {
+  for (const id of ['pose', 'dna']) {
+    const sel = $(id);
+    const keep = [...sel.selectedOptions].map((o) => o.value);
+    sel.innerHTML = '';
+    state.library.forEach((p, i) => { const o = new Option(p.name, String(i)); o.selected = keep.includes(String(i)); sel.add(o); });
+  }
+}

@@ -1,0 +1,25 @@
+// The sketch page's state: the keys (the user's work, never lost on
+// errors), the library, the result, the view and the undo history.
+
+export const $ = (id) => document.getElementById(id);
+
+export const state = {
+  skeleton: null,      // see skeleton.js: { clip, names, parents, channels }
+  library: [],         // [{ name, channels }]
+  dnaClip: null,       // the last imported clip's motion, { name, motion } (seeded DNA is drawn from it)
+  keys: [],            // [{ frame, channels }] (a pose) or [{ frame, root }] (a root-only key), sorted by frame
+  length: 300,
+  frame: 0,
+  playing: false,
+  result: null,        // { positions, frames, bvh, method, times }
+  selected: -1,        // joint index
+  undo: [], redo: [],
+  client: null,
+  view: null,          // see view.js
+  dragPose: null,      // joint positions while a joint is dragged
+};
+
+export function setStatus(text, error = false) {
+  $('status').textContent = text;
+  $('status').classList.toggle('error', error);
+}
