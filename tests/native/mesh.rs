@@ -693,3 +693,113 @@ fn the_cli_writes_the_topology_of_an_obj_file() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn training_files_round_trip_and_reject_hostile_contents() {
+    use deeprep::mesh::files::{PoseSet, TopologyFile};
+    use deeprep::mesh::{obj::parse, Params, Topology};
+    let obj = format!("{}{}", grid_obj(9, 9, 0.0, 0), grid_obj(5, 5, 20.0, 81));
+    let m = parse(&obj).unwrap();
+    let t = Topology::from_mesh(
+        &m.positions,
+        &m.triangles,
+        &Params::for_mesh(&m.positions),
+        &[],
+    )
+    .unwrap();
+    let f = TopologyFile::from_topology(&t, "two.obj", m.positions.len());
+    let text = f.to_json().unwrap();
+    let back = TopologyFile::parse(&text).unwrap();
+    assert_eq!(back, f);
+    assert_eq!(back.to_json().unwrap(), text, "written again byte for byte");
+    assert_eq!(back.sizes()[0], t.rest.len());
+    assert!(!back.added_edges.is_empty(), "two sheets are joined");
+    // hostile edits: each an error naming what is wrong
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let edit = |f: &dyn Fn(&mut serde_json::Value)| {
+        let mut w = v.clone();
+        f(&mut w);
+        TopologyFile::parse(&w.to_string()).unwrap_err().to_string()
+    };
+    let n = t.rest.len();
+    for (e, says) in [
+        (edit(&|w| w["weld_map"][0] = n.into()), "weld_map[0]"),
+        (
+            edit(&|w| w["triangles"][0][1] = 1_000_000.into()),
+            "triangle",
+        ),
+        (
+            edit(&|w| w["edges"][0] = serde_json::json!([0, 0])),
+            "edges",
+        ),
+        (
+            edit(&|w| w["levels"][0]["down"]["indices"][0] = n.into()),
+            "levels[0].down",
+        ),
+        (
+            edit(&|w| w["levels"][1]["up"]["rows"] = 3.into()),
+            "levels[1].up",
+        ),
+        (
+            edit(&|w| w["levels"][0]["up"]["mask"][0] = 2.into()),
+            "mask value",
+        ),
+        (
+            edit(&|w| w["levels"][0]["selected"][0] = n.into()),
+            "levels[0].selected",
+        ),
+        (
+            edit(&|w| w["rig_vertices"] = 1_000_000_000_000u64.into()),
+            "weld_map has",
+        ),
+        (
+            edit(&|w| w["rest"] = serde_json::json!("x")),
+            "not a topology file",
+        ),
+    ] {
+        assert!(e.contains(says), "expected '{says}' in: {e}");
+    }
+    assert!(TopologyFile::parse("[]").is_err());
+
+    // pose sets: two poses, written and read back exactly
+    let mut set = PoseSet::new(3);
+    let pose = [[0.5f32, 1.0, -2.0], [3.0, 4.0, 5.0], [1e-7, -0.0, 7.25]];
+    set.push(&pose, serde_json::json!({"clip": "a", "time": 0.0}))
+        .unwrap();
+    set.push(
+        &pose.map(|p| p.map(|x| x * 2.0)),
+        serde_json::json!({"clip": "random", "index": 0}),
+    )
+    .unwrap();
+    set.extra.insert("fps".into(), 30.0f32.into());
+    assert!(set.push(&pose[..2], serde_json::Value::Null).is_err());
+    let back = PoseSet::read(&set.data_bytes(), &set.meta_json()).unwrap();
+    assert_eq!(back, set);
+    assert_eq!(back.meta_json(), set.meta_json());
+    let bytes = set.data_bytes();
+    for (data, meta, says) in [
+        (&bytes[..bytes.len() - 4], set.meta_json(), "data bytes"),
+        (
+            &bytes[..],
+            set.meta_json().replace("\"poses\":2", "\"poses\":3"),
+            "3 labels",
+        ),
+        (
+            &bytes[..],
+            set.meta_json()
+                .replace("\"vertices\":3", "\"vertices\":4611686018427387904"),
+            "data bytes",
+        ),
+        (&bytes[..], "{\"poses\":2}".to_string(), "'vertices'"),
+        (&bytes[..], "[1]".to_string(), "not a JSON object"),
+    ] {
+        let e = PoseSet::read(data, &meta).unwrap_err().to_string();
+        assert!(e.contains(says), "expected '{says}' in: {e}");
+    }
+    let mut nan = bytes.clone();
+    nan[12..16].copy_from_slice(&f32::NAN.to_le_bytes());
+    let e = PoseSet::read(&nan, &set.meta_json())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("pose 0"), "{e}");
+}

@@ -2,6 +2,7 @@
 //! machinery, kept free of any network code.
 //!
 //! - [`codec`]: the exported autoencoder run by tract, and local latent edits.
+//! - [`files`]: the topology and pose-set files the training code reads.
 //! - [`graph`]: vertex graphs of meshes of any topology (manifold or not),
 //!   ring neighbourhoods and graph distances.
 //! - [`obj`]: Wavefront OBJ meshes (any topology) read strictly.
@@ -14,6 +15,7 @@
 
 #[cfg(feature = "onnx")]
 pub mod codec;
+pub mod files;
 pub mod graph;
 pub mod obj;
 pub mod rig;

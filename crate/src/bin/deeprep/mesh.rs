@@ -63,30 +63,10 @@ fn any_topology(path: &str) -> Result<(usize, deeprep::mesh::Topology), String> 
 
 fn mesh_topology(path: &str, out: &str) -> Result<(), String> {
     let (vertices, t) = any_topology(path)?;
-    let table = |n: &deeprep::mesh::NeighborTable| serde_json::json!({"rows": n.rows, "width": n.width, "indices": n.indices, "mask": n.mask});
-    let levels: Vec<serde_json::Value> = t
-        .levels
-        .iter()
-        .map(|l| {
-            serde_json::json!({
-                "stride": l.stride, "radius": l.radius, "selected": l.selected,
-                "edges": l.graph.edges(), "down": table(&l.down), "up": table(&l.up),
-            })
-        })
-        .collect();
-    let doc = serde_json::json!({
-        "source": path,
-        "rig_vertices": vertices,
-        "weld_map": t.weld_map,
-        "rest": t.rest,
-        "triangles": t.triangles,
-        "edges": t.graph.edges(),
-        "added_edges": t.added_edges,
-        "seeds": t.seeds,
-        "levels": levels,
-        "layout": "levels[k].down: one row per vertex of level k+1 (indices into level k); levels[k].up: one row per vertex of level k (indices into level k+1); level 0 is the welded mesh",
-    });
-    std::fs::write(out, doc.to_string()).map_err(|e| format!("{out}: {e}"))?;
+    let doc = deeprep::mesh::files::TopologyFile::from_topology(&t, path, vertices)
+        .to_json()
+        .map_err(|e| e.to_string())?;
+    std::fs::write(out, doc).map_err(|e| format!("{out}: {e}"))?;
     let sizes: Vec<usize> = std::iter::once(t.rest.len())
         .chain(t.levels.iter().map(|l| l.selected.len()))
         .collect();
@@ -137,17 +117,10 @@ fn mesh_poses(path: &str, rest: &[&str]) -> Result<(), String> {
         ));
     }
     let (rig, t) = robot(path)?;
-    let mut data: Vec<f32> = Vec::new();
-    let mut labels = Vec::new();
-    let mut push = |pose: Vec<[f32; 3]>,
-                    label: serde_json::Value,
-                    data: &mut Vec<f32>|
-     -> Result<(), String> {
-        for p in t.weld_pose(&pose).map_err(|e| e.to_string())? {
-            data.extend_from_slice(&p);
-        }
-        labels.push(label);
-        Ok(())
+    let mut set = deeprep::mesh::files::PoseSet::new(t.rest.len());
+    let mut push = |pose: Vec<[f32; 3]>, label: serde_json::Value| -> Result<(), String> {
+        let welded = t.weld_pose(&pose).map_err(|e| e.to_string())?;
+        set.push(&welded, label).map_err(|e| e.to_string())
     };
     for (k, a) in rig.animations.iter().enumerate() {
         let frames = rig.clip_sample_count(k, fps).map_err(|e| e.to_string())?;
@@ -158,7 +131,6 @@ fn mesh_poses(path: &str, rest: &[&str]) -> Result<(), String> {
             push(
                 pose,
                 serde_json::json!({"clip": a.name, "time": f as f32 / fps}),
-                &mut data,
             )?;
         }
     }
@@ -171,14 +143,16 @@ fn mesh_poses(path: &str, rest: &[&str]) -> Result<(), String> {
         push(
             pose,
             serde_json::json!({"clip": "random", "index": r, "from": rig.animations[k].name, "time": time}),
-            &mut data,
         )?;
     }
-    let bytes: Vec<u8> = data.iter().flat_map(|v| v.to_le_bytes()).collect();
-    std::fs::write(format!("{out}.f32"), bytes).map_err(|e| format!("{out}.f32: {e}"))?;
-    let meta = serde_json::json!({"source": path, "vertices": t.rest.len(), "poses": labels.len(), "fps": fps, "seed": seed, "labels": labels});
-    std::fs::write(format!("{out}.json"), meta.to_string())
+    set.extra.insert("source".into(), path.into());
+    set.extra.insert("fps".into(), fps.into());
+    set.extra.insert("seed".into(), seed.into());
+    std::fs::write(format!("{out}.f32"), set.data_bytes())
+        .map_err(|e| format!("{out}.f32: {e}"))?;
+    std::fs::write(format!("{out}.json"), set.meta_json())
         .map_err(|e| format!("{out}.json: {e}"))?;
+    let labels = &set.labels;
     eprintln!(
         "wrote {out}.f32 and {out}.json: {} poses x {} vertices",
         labels.len(),
