@@ -593,3 +593,60 @@ fn the_gabor_bank_recovers_synthetic_orientations() {
     nan[5] = f32::NAN;
     assert!(bank.orientations(&nan, &mask, w, h).is_err());
 }
+
+#[test]
+fn the_dataset_files_read_back_and_wrong_sizes_are_errors() {
+    use deeprep::hair::dataset::{write, Dataset, Options, Sinks};
+    let o = Options {
+        base: 1,
+        blends: 0,
+        views: 1,
+        size: 16,
+        seed: 3,
+    };
+    let (mut s, mut c, mut i, mut v) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let mut classes = 0;
+    let sinks = Sinks {
+        strands: &mut s,
+        curvature: &mut c,
+        images: &mut i,
+        visible: &mut v,
+    };
+    let meta = write(&o, sinks, |_| classes += 1).unwrap();
+    let text = meta.to_string();
+    let d = Dataset::read(&text, &s, &c, &i, &v).unwrap();
+    let hairs = meta["hairs"].as_u64().unwrap() as usize;
+    assert_eq!(hairs, 2 * classes, "a base style and its mirror per class");
+    assert_eq!(d.strands.len(), hairs * 32 * 32 * 100 * 3);
+    assert_eq!(d.images.len(), hairs * 3 * 16 * 16);
+    assert_eq!(d.meta["hair"], meta["hair"]);
+    assert!(d.visible.iter().all(|&x| x <= 1));
+    for (what, e) in [
+        (
+            "strands",
+            Dataset::read(&text, &s[..s.len() - 12], &c, &i, &v),
+        ),
+        ("images", Dataset::read(&text, &s, &c, &i[1..], &v)),
+        (
+            "hairs",
+            Dataset::read(
+                &text.replace("\"hairs\":", "\"hair_count\":"),
+                &s,
+                &c,
+                &i,
+                &v,
+            ),
+        ),
+    ] {
+        let e = e.unwrap_err().to_string();
+        assert!(e.contains(what), "expected '{what}' in: {e}");
+    }
+    let mut nan = c.clone();
+    nan[8..12].copy_from_slice(&f32::NAN.to_le_bytes());
+    let e = Dataset::read(&text, &s, &nan, &i, &v)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("curvature: value 2"), "{e}");
+    assert!(Options { views: 0, ..o }.check().is_err());
+    assert!(Options { size: 1 << 20, ..o }.check().is_err());
+}

@@ -7,6 +7,7 @@
 //! - [`scalp`]: the 32 × 32 scalp parameterization (Sec. 3.2.3) and roots.
 //! - [`strand`]: per-sample curvature, Gaussian smoothing and curl
 //!   restoration (Sec. 3.2.4).
+//! - [`dataset`]: the procedural training set's files, written and read back.
 //! - [`generator`]: procedural hairstyles across Table 3.1's classes
 //!   (gravity, stiffness, partings, curls, clumps, collisions, blending).
 //! - [`orientation`]: the photo path: a Gabor filter bank turns an image
@@ -22,6 +23,7 @@
 //! here; results on them are not comparable with the thesis' numbers.
 
 pub mod body;
+pub mod dataset;
 pub mod generator;
 #[cfg(all(feature = "gpu", feature = "onnx"))]
 pub mod gpu;
