@@ -27,20 +27,24 @@ Metrics, on the frames strictly between keys:
 Writes docs/inbetween_eval.json and docs/inbetween_eval.png and prints a
 Markdown table.  Run: train/.venv/bin/python train/eval_tween.py
 
-With EVAL_HYBRIDS=1 it also scores the model's output with one channel group
-(root position, root rotation, all joints, spine, arms, hands or legs) replaced by
-SLERP+LERP's, and writes docs/inbetween_hybrids.json instead: which part of
-the model gains or loses against interpolation. Two more diagnostics write
-the same file: EVAL_BLEND=w1,w2,... (the model's local pose blended towards
-SLERP+LERP's by each weight) and EVAL_CUBIC=1 (Catmull-Rom splines through
-the keys, and the model with the spline's root position).
+Options (--help): --gaps, --methods, --split train (training takes, for
+choosing settings), --dna-gt (a diagnostic). With --hybrids it also scores
+the model's output with one channel group (root position, root rotation,
+all joints, spine, arms, hands or legs) replaced by SLERP+LERP's, and
+writes docs/inbetween_hybrids.json instead: which part of the model gains
+or loses against interpolation. Two more diagnostics write the same file:
+--blend w1,w2,... (the model's local pose blended towards SLERP+LERP's by
+each weight) and --cubic (Catmull-Rom splines through the keys, and the
+model with the spline's root position).
 """
+import argparse
 import json
 import os
 import re
 import subprocess
 import sys
 import tempfile
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -48,60 +52,97 @@ from bvh_io import read_hierarchy  # noqa: E402
 from data_pipeline import DATA, TRUE_FPS, VALIDATION, take_of  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-GAPS = [int(g) for g in os.environ.get("EVAL_GAPS", "30,60,120,300").split(",")]
-METHODS = os.environ.get("EVAL_METHODS", "zerovel,slerp,model,model-lock,variation-1,residual,residual-1").split(",")
-# "model-nolock": the model with post-processing that makes keys exact
-# but leaves the feet as synthesized (CLI --no-foot-lock).
-METHOD_ARGS = {"model-nolock": ["--method", "model", "--no-foot-lock"],
-               "model-lock": ["--method", "model", "--foot-lock"],
-               # diagnostic: the same without post-processing (keys not made exact)
-               "model-nopost": ["--method", "model", "--no-post"],
-               # the supervised residual on SLERP+LERP (issue 19, stage 1; train/tween_resid.py)
-               "residual": ["--method", "residual"]}
-# "variation-V" (e.g. variation-1, the networks as trained): the model without
-# foot locking at --variation V, the share of the networks' departure from
-# SLERP+LERP kept (0 is SLERP+LERP itself).
-METHOD_ARGS.update({m: ["--method", "model", "--no-foot-lock", "--variation", m.split("-", 1)[1]]
-                    for m in METHODS if m.startswith("variation-")})
-# "generator" (the Generative Tweening generator whatever the residual
-# manifest says, --method generator) and "generator-V" at variation V;
-# "residual-V": the residual network at variation V.
-METHOD_ARGS["generator"] = ["--method", "generator", "--no-foot-lock"]
-METHOD_ARGS.update({m: ["--method", "generator", "--no-foot-lock", "--variation", m.split("-", 1)[1]]
-                    for m in METHODS if m.startswith("generator-")})
-METHOD_ARGS.update({m: ["--method", "residual", "--variation", m.split("-", 1)[1]]
-                    for m in METHODS if m.startswith("residual-")})
+# Methods: "zerovel", "slerp", "model" (CLI defaults), and the names below.
+FIXED_ARGS = {
+    # the model with post-processing that makes keys exact but leaves the
+    # feet as synthesized (CLI --no-foot-lock), or with foot locking
+    "model-nolock": ["--method", "model", "--no-foot-lock"],
+    "model-lock": ["--method", "model", "--foot-lock"],
+    # diagnostic: the same without post-processing (keys not made exact)
+    "model-nopost": ["--method", "model", "--no-post"],
+    # the supervised residual on SLERP+LERP (issue 19, stage 1; train/tween_resid.py)
+    "residual": ["--method", "residual"],
+    # the Generative Tweening generator whatever the residual manifest says
+    "generator": ["--method", "generator", "--no-foot-lock"],
+}
+
+
+def method_args(m):
+    """The CLI arguments of method m. Besides FIXED_ARGS: "variation-V" (the
+    model without foot locking at --variation V, the share of the networks'
+    departure from SLERP+LERP kept; 0 is SLERP+LERP itself), "generator-V"
+    and "residual-V" (those networks at variation V); any other name is
+    passed as --method."""
+    if m in FIXED_ARGS:
+        return FIXED_ARGS[m]
+    kind, _, v = m.partition("-")
+    if v and kind == "variation":
+        return ["--method", "model", "--no-foot-lock", "--variation", v]
+    if v and kind == "generator":
+        return ["--method", "generator", "--no-foot-lock", "--variation", v]
+    if v and kind == "residual":
+        return ["--method", "residual", "--variation", v]
+    return ["--method", m]
 
 
 def runs_model(m):
     """Whether method m runs the generator pipeline (CLI --method model or
     generator), whose key errors before post-processing are reported."""
-    return METHOD_ARGS.get(m, ["--method", m])[1] in ("model", "generator")
+    return method_args(m)[1] in ("model", "generator")
 
 
-# EVAL_SPLIT=train scores training takes instead (for choosing settings
-# without looking at validation takes) and writes docs/inbetween_eval_train.json.
-SPLIT = os.environ.get("EVAL_SPLIT", "val")
-# EVAL_DNA=gt (diagnostic, leaks the ground truth): the model methods get as
-# Motion DNA the clip's own representative frames (largest local rotation
-# change, >= 30 frames apart, one per 180 frames), as in training, instead of
-# the keys, which is what inference uses without DNA. Measures the
-# train/inference mismatch of the DNA input; never a result to report as the model's.
-DNA_GT = os.environ.get("EVAL_DNA") == "gt"
-# EVAL_HYBRIDS=1: also score the model's output with one channel group taken
-# from SLERP+LERP's, to show which part of the model costs what.
-HYBRIDS = {f"model, slerp {g}": g for g in ["root position", "root height", "root rotation", "joints", "spine", "arms", "hands", "legs"]} \
-    if os.environ.get("EVAL_HYBRIDS") == "1" else {}
-# EVAL_BLEND=w1,w2,...: also score the model's output blended towards
-# SLERP+LERP's by weight w (local joint rotations by quaternion slerp, the root
-# position by lerp; 0 = model, 1 = SLERP+LERP), written with the hybrids.
-BLENDS = {f"model, blend {w}": float(w) for w in os.environ.get("EVAL_BLEND", "").split(",") if w}
-CUBIC = ["cubic", "model, cubic root position"] if os.environ.get("EVAL_CUBIC") == "1" else []
-# every diagnostic row, in print order
-DIAGNOSTICS = list(HYBRIDS) + list(BLENDS) + CUBIC
-# The hybrids start from the first model method listed (model or model-nolock),
-# or from the method EVAL_HYBRID_OF names (e.g. base).
-HYBRID_BASE = os.environ.get("EVAL_HYBRID_OF") or next((m for m in METHODS if m.startswith("model")), None)
+HYBRID_GROUPS = ["root position", "root height", "root rotation", "joints", "spine", "arms", "hands", "legs"]
+
+
+@dataclass
+class Config:
+    """What one evaluation run scores (see parse_args for each option)."""
+    gaps: list = field(default_factory=lambda: [30, 60, 120, 300])
+    methods: list = field(default_factory=lambda: "zerovel,slerp,model,model-lock,variation-1,residual,residual-1".split(","))
+    split: str = "val"
+    dna_gt: bool = False
+    hybrids: dict = field(default_factory=dict)
+    blends: dict = field(default_factory=dict)
+    cubic: list = field(default_factory=list)
+    hybrid_base: str = None
+
+    @property
+    def diagnostics(self):
+        """every diagnostic row, in print order"""
+        return list(self.hybrids) + list(self.blends) + self.cubic
+
+
+def parse_args(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter)
+    ints = lambda s: [int(x) for x in s.split(",") if x]  # noqa: E731
+    names = lambda s: [x for x in s.split(",") if x]  # noqa: E731
+    d = Config()
+    ap.add_argument("--gaps", type=ints, default=d.gaps, help="gaps in frames at 60 fps (default 30,60,120,300)")
+    ap.add_argument("--methods", type=names, default=d.methods, help="comma-separated methods (see method_args)")
+    ap.add_argument("--split", choices=["val", "train"], default="val",
+                    help="train: score training takes instead (for choosing settings without looking at "
+                         "validation takes), written to docs/inbetween_eval_train.json")
+    ap.add_argument("--dna-gt", action="store_true",
+                    help="diagnostic, leaks the ground truth: the model methods get the clip's own representative "
+                         "frames as Motion DNA, as in training, instead of none; never a result to report")
+    ap.add_argument("--hybrids", action="store_true",
+                    help="also score the model's output with one channel group taken from SLERP+LERP's")
+    ap.add_argument("--blend", type=names, default=[],
+                    help="weights w: also score the model's output blended towards SLERP+LERP's by w "
+                         "(0 = model, 1 = SLERP+LERP)")
+    ap.add_argument("--cubic", action="store_true",
+                    help="also score Catmull-Rom splines through the keys, and the model with the spline's root position")
+    ap.add_argument("--hybrid-of", default=None, help="the method the hybrids start from (default: the first model method)")
+    a = ap.parse_args(argv)
+    return Config(
+        gaps=a.gaps, methods=a.methods, split=a.split, dna_gt=a.dna_gt,
+        hybrids={f"model, slerp {g}": g for g in HYBRID_GROUPS} if a.hybrids else {},
+        blends={f"model, blend {w}": float(w) for w in a.blend},
+        cubic=["cubic", "model, cubic root position"] if a.cubic else [],
+        hybrid_base=a.hybrid_of or next((m for m in a.methods if m.startswith("model")), None),
+    )
+
+
 FEET = ["lFoot", "rFoot", "lFoot_Nub", "rFoot_Nub"]
 
 
@@ -351,12 +392,14 @@ def l2p_stats():
     return flat.mean(0), flat.std(0) + 1e-6
 
 
-def main():
+def main(cfg):
     if not os.path.isdir(DATA):
         sys.exit(f"SKIP: {DATA} is absent")
     mu, sd = l2p_stats()
+    GAPS, METHODS, SPLIT, DNA_GT = cfg.gaps, cfg.methods, cfg.split, cfg.dna_gt
+    HYBRIDS, BLENDS, CUBIC, HYBRID_BASE, DIAGNOSTICS = cfg.hybrids, cfg.blends, cfg.cubic, cfg.hybrid_base, cfg.diagnostics
     if DIAGNOSTICS and not (HYBRID_BASE and "slerp" in METHODS):
-        sys.exit("EVAL_HYBRIDS, EVAL_BLEND and EVAL_CUBIC need slerp and model (or model-nolock) in EVAL_METHODS")
+        sys.exit("--hybrids, --blend and --cubic need slerp and model (or model-nolock) in --methods")
     acc = {(m, g): {"l2p": [], "l2q": [], "gt": [], "pred": [], "skate": [], "accel": [], "speed": [], "gt_speed": [],
                     "keyraw": [], "key": []}
            for m in METHODS + DIAGNOSTICS for g in GAPS}
@@ -378,7 +421,7 @@ def main():
                     for m in METHODS:
                         out = os.path.join(tmp, f"out_{m}_{g}.bvh")
                         r = subprocess.run([cli(), "inbetween", "--from-bvh", clip, "--keys", ",".join(map(str, keys)),
-                                            "-o", out] + METHOD_ARGS.get(m, ["--method", m])
+                                            "-o", out] + method_args(m)
                                            + (dna_args if runs_model(m) else []),
                                            capture_output=True, text=True)
                         if r.returncode != 0:
@@ -461,4 +504,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    main(parse_args())

@@ -4,6 +4,7 @@ parity fixtures:
   tween_path.onnx        local positions [1, P, N] -> root velocity [1, 3, N]
 Run after train_tween.py:  train/.venv/bin/python train/export_tween.py
 """
+import argparse
 import json
 import os
 
@@ -35,13 +36,19 @@ def fixture(name, sess, feeds, torch_out):
     return parity
 
 
-def main():
+def main(argv=None):
+    ap = argparse.ArgumentParser(description="Exports the in-betweening generator and path predictor to ONNX.")
+    ap.add_argument("--run", default=OUT, help="training run directory with gen.pt, path.pt and log.jsonl "
+                                                "(default train/cache/tween)")
+    ap.add_argument("--variation", type=float, default=1.0,
+                    help="the manifest's default variation (train/pick_variation.py chooses it afterwards)")
+    args = ap.parse_args(argv)
     data = Data(os.path.join(ROOT, "train", "cache", "motion60.npz"), "train")
     J = len(data.joints)
     P = 3 * J
     fk = RCFK(data.joints, data.parents, data.offsets, data.channel_joints)
-    pck = torch.load(os.path.join(OUT, "path.pt"))
-    gck = torch.load(os.path.join(OUT, "gen.pt"))
+    pck = torch.load(os.path.join(args.run, "path.pt"))
+    gck = torch.load(os.path.join(args.run, "gen.pt"))
     path = PathPredictor(P, **pck.get("config", {}))
     path.load_state_dict(pck["model"])
     gen = Generator(P, fk.output_dim, gate_tau=gck["args"].get("gate_tau"), skips=gck["args"].get("skips", 0))
@@ -71,7 +78,7 @@ def main():
 
     std = open(os.path.join(ROOT, "..", "shared", "data", "cmu-bvh", "standard.bvh")).read()
     hierarchy = std[: std.index("MOTION")] + "MOTION\nFrames: 0\nFrame Time: 0.0166667\n"
-    log = [json.loads(line) for line in open(os.path.join(OUT, "log.jsonl"))]
+    log = [json.loads(line) for line in open(os.path.join(args.run, "log.jsonl"))]
     last = [x for x in log if x.get("stage") == "gen"][-1:]
     common = {
         "skeleton_bvh": hierarchy,
@@ -91,7 +98,7 @@ def main():
         "base": gck["args"].get("base", "linear"),
         # the default share of the learned departure from interpolation;
         # train/pick_variation.py chooses it on training takes afterwards
-        "variation": float(os.environ.get("TWEEN_VARIATION", "1")),
+        "variation": args.variation,
         "outputs": [{"name": "raw", "shape": [1, fk.output_dim, "frames"], "meaning": "root 6D, then tanh-ranged Euler values per rotating joint (RC-FK)"}],
         "training": {"steps": gck["steps"], "batch": gck["args"]["batch"], "frames": gck["args"]["frames"],
                      "loss_weights": gck.get("weights", W), "gan_target": GAN_TARGET, "last_log": last},

@@ -6,7 +6,7 @@ validation takes that the README reports.
   train/.venv/bin/python train/pick_checkpoint.py train/cache/run16 [STEPS ...]
 
 For each snapshot: export it (train/export_tween.py into models/onnx/), then
-train/eval_tween.py with EVAL_SPLIT=train on SLERP+LERP and the model
+train/eval_tween.py with --split train on SLERP+LERP and the model
 without foot locking. Prints and writes RUN/pick.json: per snapshot L2P and
 NPSS per gap, the cells of the issue's target it meets (NPSS at every gap,
 L2P at 30 and 60 frames) and the mean ratio to SLERP+LERP over those cells.
@@ -32,10 +32,9 @@ def score(run, ckpt):
         for f in ("path.pt", "log.jsonl"):
             shutil.copy(os.path.join(run, f), tmp)
         shutil.copy(ckpt, os.path.join(tmp, "gen.pt"))
-        subprocess.run([PY, "train/export_tween.py"], cwd=ROOT, env=os.environ | {"TWEEN_OUT": tmp},
-                       check=True, capture_output=True)
-    subprocess.run([PY, "train/eval_tween.py"], cwd=ROOT, check=True, capture_output=True,
-                   env=os.environ | {"EVAL_SPLIT": "train", "EVAL_METHODS": "slerp,model-nolock"})
+        subprocess.run([PY, "train/export_tween.py", "--run", tmp], cwd=ROOT, check=True, capture_output=True)
+    subprocess.run([PY, "train/eval_tween.py", "--split", "train", "--methods", "slerp,model-nolock"], cwd=ROOT,
+                   check=True, capture_output=True)
     return target_cells(json.load(open(os.path.join(ROOT, "docs", "inbetween_eval_train.json"))), "model-nolock")
 
 

@@ -8,7 +8,7 @@ reports are not looked at.
 
   train/.venv/bin/python train/pick_residual.py [V ...]   (default grid below)
 
-Runs train/eval_tween.py once (EVAL_SPLIT=train) with SLERP+LERP, the
+Runs train/eval_tween.py once (--split train) with SLERP+LERP, the
 generator at its default and the residual network at each V, writes
 docs/inbetween_residual_default_train.json and sets `variation`,
 `default_for_whole_pose_keys` and how they were chosen in
@@ -30,8 +30,8 @@ MANIFEST = os.path.join(ROOT, "models", "onnx", "tween_residual.manifest.json")
 def main():
     grid = sys.argv[1:] or GRID
     methods = ["slerp", "generator"] + [f"residual-{v}" for v in grid]
-    subprocess.run([sys.executable, "train/eval_tween.py"], cwd=ROOT, check=True,
-                   env=os.environ | {"EVAL_SPLIT": "train", "EVAL_METHODS": ",".join(methods)})
+    subprocess.run([sys.executable, "train/eval_tween.py", "--split", "train", "--methods", ",".join(methods)],
+                   cwd=ROOT, check=True)
     res = json.load(open(os.path.join(ROOT, "docs", "inbetween_eval_train.json")))
     scores = {v: target_cells(res, f"residual-{v}") for v in grid}
     for v, s in scores.items():

@@ -7,7 +7,7 @@ looked at.
 
   train/.venv/bin/python train/pick_variation.py [V ...]   (default grid below)
 
-Runs train/eval_tween.py once (EVAL_SPLIT=train) with SLERP+LERP and the
+Runs train/eval_tween.py once (--split train) with SLERP+LERP and the
 model without foot locking at each V, writes docs/inbetween_variation_train.json
 and sets `variation` (and how it was chosen) in
 models/onnx/tween_generator.manifest.json. Needs the release CLI
@@ -29,8 +29,8 @@ MANIFEST = os.path.join(ROOT, "models", "onnx", "tween_generator.manifest.json")
 def main():
     grid = sys.argv[1:] or GRID
     methods = ["slerp"] + [f"variation-{v}" for v in grid]
-    subprocess.run([sys.executable, "train/eval_tween.py"], cwd=ROOT, check=True,
-                   env=os.environ | {"EVAL_SPLIT": "train", "EVAL_METHODS": ",".join(methods)})
+    subprocess.run([sys.executable, "train/eval_tween.py", "--split", "train", "--methods", ",".join(methods)],
+                   cwd=ROOT, check=True)
     res = json.load(open(os.path.join(ROOT, "docs", "inbetween_eval_train.json")))
     scores = {v: target_cells(res, f"variation-{v}") for v in grid}
     for v, s in scores.items():

@@ -122,7 +122,7 @@ whole-pose keys is one window ({ev['model@30']['windows']} windows at gap 30, {e
 locking" adds `--foot-lock` (`crate/src/motion/feet.rs`), off by default
 since session 9: at this variation it raised L2P, NPSS and foot skating on
 training takes. Variation 0 is SLERP+LERP exactly. The default variation and
-foot locking's settings were chosen on training takes (`EVAL_SPLIT=train`),
+foot locking's settings were chosen on training takes (`eval_tween.py --split train`),
 not on these.
 {ablation}{res_text}Ground-truth foot skating by the same measure: {ev['ground_truth_foot_skate']:.3f} units/frame; ground-truth joint acceleration {ev['ground_truth_acceleration']:.3f} units/frame².
 NPSS sums over frequencies, so it grows with the window: compare methods

@@ -8,13 +8,14 @@ through their nodes' scope names. Each rebuilt network is checked against
 its parity fixture (models/onnx/fixtures/) and the script fails if it is
 off by more than 1e-4.
 
-Writes $TWEEN_OUT (default train/cache/tween)/gen.pt (generator only: a
+Writes OUT (--out, default train/cache/tween)/gen.pt (generator only: a
 --resume of it trains a fresh discriminator first, see --d-warmup) and
 path.pt.
 
   train/.venv/bin/python train/recover_checkpoint.py
   train/.venv/bin/python train/train_tween.py --resume train/cache/tween/gen.pt --path-ckpt train/cache/tween/path.pt ...
 """
+import argparse
 import json
 import os
 import sys
@@ -70,7 +71,10 @@ def check(model, fixture_name):
     return err
 
 
-def main():
+def main(argv=None):
+    ap = argparse.ArgumentParser(description="Rebuilds train/cache/tween checkpoints from the bundled ONNX files.")
+    ap.add_argument("--out", default=OUT, help="where gen.pt and path.pt go (default train/cache/tween)")
+    out = ap.parse_args(argv).out
     data = Data(os.path.join(ROOT, "train", "cache", "motion60.npz"), "train")
     P = 3 * len(data.joints)
     fk = RCFK(data.joints, data.parents, data.offsets, data.channel_joints)
@@ -85,15 +89,15 @@ def main():
     path = PathPredictor(P)
     load_onnx_weights(path, onnx.load(ppath), ppath)
     ep = check(path, "tween_path")
-    os.makedirs(OUT, exist_ok=True)
+    os.makedirs(out, exist_ok=True)
     steps = gman["training"]["steps"]
     args = {"skips": skips, "gate_tau": None, "base": gman.get("base", "linear"), "recovered_from": "onnx"}
     torch.save({"G": gen.state_dict(), "steps": steps, "args": args, "weights": gman["training"]["loss_weights"]},
-               os.path.join(OUT, "gen.pt"))
+               os.path.join(out, "gen.pt"))
     torch.save({"model": path.state_dict(), "steps": pman["training"]["steps"],
                 "table_5_2_val": pman["training"].get("table_5_2_validation"), "config": {}},
-               os.path.join(OUT, "path.pt"))
-    print(f"{OUT}: gen.pt ({steps} steps, skips {skips}, base {args['base']}, fixture error {eg:.2g}), "
+               os.path.join(out, "path.pt"))
+    print(f"{out}: gen.pt ({steps} steps, skips {skips}, base {args['base']}, fixture error {eg:.2g}), "
           f"path.pt (fixture error {ep:.2g})")
 
 

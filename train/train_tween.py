@@ -25,7 +25,8 @@ from deeprep_train.tween import (SCALE, GAN_TARGET, Discriminator, Generator, Pa
                                  base_channels, dense_input, path_loss, rc_to_raw, BASES)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-OUT = os.environ.get("TWEEN_OUT", os.path.join(ROOT, "train", "cache", "tween"))
+# where checkpoints and the log go by default (--out)
+OUT = os.path.join(ROOT, "train", "cache", "tween")
 W = {"recon": 100.0, "vel": 100.0, "acc": 0.0, "spec": 0.0, "rot": 0.0, "path": 0.0, "key": 300.0, "root": 50.0, "gan": 1.0, "br": 5.0,
      "dna1": 50.0, "dna2": 50.0}
 # DNA weights can be overridden (--dna-weight): at this training budget the
@@ -246,6 +247,7 @@ def path_table(net, data, rng, windows=64, n=512):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--data", default=os.path.join(ROOT, "train", "cache", "motion60.npz"))
+    ap.add_argument("--out", default=OUT, help="directory of the checkpoints and log (default train/cache/tween)")
     ap.add_argument("--path-minutes", type=float, default=6)
     ap.add_argument("--path-width", type=int, default=128)
     ap.add_argument("--path-layers", type=int, default=6)
@@ -305,8 +307,9 @@ def main():
     if args.gan_weight is not None:
         W["gan"] = args.gan_weight
     rng = np.random.default_rng(args.seed)
-    os.makedirs(OUT, exist_ok=True)
-    logf = open(os.path.join(OUT, "log.jsonl"), "a")
+    out = args.out
+    os.makedirs(out, exist_ok=True)
+    logf = open(os.path.join(out, "log.jsonl"), "a")
 
     def log(d):
         print(json.dumps(d), flush=True)
@@ -333,7 +336,7 @@ def main():
     for p in path.parameters():
         p.requires_grad_(False)
     torch.save({"model": path.state_dict(), "steps": psteps, "table_5_2_val": table, "config": path_config},
-               os.path.join(OUT, "path.pt"))
+               os.path.join(out, "path.pt"))
 
     G = Generator(P, fk.output_dim, gate_tau=args.gate_tau, skips=args.skips)
     D = Discriminator(P)
@@ -355,9 +358,9 @@ def main():
         ck = {"G": G.state_dict(), "D": D.state_dict(), "steps": step, "args": vars(args), "weights": W}
         if ema is not None:
             ck["G_ema"] = ema.state_dict()
-        torch.save(ck, os.path.join(OUT, "gen.pt"))
+        torch.save(ck, os.path.join(out, "gen.pt"))
         if args.keep_snapshots:
-            shutil.copy(os.path.join(OUT, "gen.pt"), os.path.join(OUT, f"gen_{step}.pt"))
+            shutil.copy(os.path.join(out, "gen.pt"), os.path.join(out, f"gen_{step}.pt"))
 
     og = torch.optim.Adam(G.parameters(), lr=args.lr_g, betas=(0.5, 0.99))
     od = torch.optim.Adam(D.parameters(), lr=args.lr_d, betas=(0.5, 0.99))
