@@ -1109,3 +1109,66 @@ fn requests_as_json_carry_method_options_and_dna() {
         assert!(e.contains(says), "{bad}: {e}");
     }
 }
+
+#[test]
+fn two_d_keys_are_met_in_x_and_y_after_post_processing() {
+    use deeprep::motion::keys::{from_json, KeyKind};
+    let Some(m) = models() else { return };
+    // the example's keys: whole poses at their frames, the middle one given
+    // as a 2-D key (every joint's x and y, the root)
+    let text = std::fs::read_to_string(root().join("models/examples/keys.json")).unwrap();
+    let mut keys = from_json(&text, &m.template).unwrap().keys;
+    assert!(keys.len() >= 3);
+    let mid = keys.len() / 2;
+    keys[mid] = KeyKind::Xy.of(&keys[mid]).unwrap();
+    assert!(deeprep::motion::xy::is_xy_key(&keys[mid]));
+    let frames = keys.last().unwrap().frame + 1;
+    let req = Request {
+        keys: keys.clone(),
+        frames,
+        dna: None,
+        post_process: true,
+        foot_lock: None,
+        variation: None,
+    };
+    let out = m.synthesize(&req, &|| 0.0).unwrap();
+    // the mean error over the keys' given coordinates: the whole poses are
+    // exact, the 2-D key's x and y are met to well under a unit (a
+    // centimetre) where the networks alone miss by several
+    assert!(out.key_error.local < 0.1, "after post: {:?}", out.key_error);
+    assert!(
+        out.key_error_raw.local > 10.0 * out.key_error.local,
+        "before {:?}, after {:?}",
+        out.key_error_raw,
+        out.key_error
+    );
+    // and the depth is the networks' (not the truth's): the 2-D key fixes
+    // x and y only, so z differs from the original pose somewhere
+    let k = &keys[mid];
+    let pos = out
+        .motion
+        .local_positions(k.frame, &m.rc.parents, &m.rc.offsets);
+    let (worst, xy_err) = (1..pos.len())
+        .map(|j| {
+            let e = (pos[j][0] - k.positions[3 * j] as f64)
+                .hypot(pos[j][1] - k.positions[3 * j + 1] as f64);
+            (j, e)
+        })
+        .fold((0, 0.0f64), |a, b| if b.1 > a.1 { b } else { a });
+    assert!(
+        xy_err < 1.0,
+        "largest joint x/y error {xy_err} at {}",
+        m.rc.names[worst]
+    );
+    // without post-processing the key is not pinned
+    let raw = m
+        .synthesize(
+            &Request {
+                post_process: false,
+                ..req
+            },
+            &|| 0.0,
+        )
+        .unwrap();
+    assert_eq!(raw.key_error.local, raw.key_error_raw.local);
+}

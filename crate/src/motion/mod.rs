@@ -27,6 +27,7 @@ pub mod post;
 #[cfg(feature = "onnx")]
 pub mod residual;
 pub mod spline;
+pub mod xy;
 
 use crate::error::{Error, Result};
 use crate::rotation::euler::{matrix_to_euler, Axis, EulerOrder, Frame};

@@ -284,7 +284,9 @@ impl TweenModels {
         let key_error_raw = self.key_error(&motion, &req.keys);
         let mut foot_lock = FootLockStats::default();
         let key_error = if req.post_process {
-            post::make_keys_exact(&mut motion, &req.keys);
+            // 2-D keys become rotation keys fitted to their x/y (motion::xy)
+            let keys = super::xy::pin_xy_keys(&motion, &self.template, &req.keys);
+            post::make_keys_exact(&mut motion, &keys);
             if let Some(cfg) = &req.foot_lock {
                 foot_lock = lock_feet(&mut motion, &self.template, &req.keys, cfg);
             }
@@ -373,10 +375,13 @@ impl TweenModels {
                 rn += 1;
             }
             let pos = m.local_positions(k.frame, &self.rc.parents, &self.rc.offsets);
+            // over the coordinates the key gives (x and y for 2-D keys)
             for (jj, q) in pos.iter().enumerate().skip(1) {
-                if (0..3).all(|c| k.mask[3 * jj + c]) {
-                    le += (0..3)
-                        .map(|c| (q[c] - k.positions[3 * jj + c] as f64).powi(2))
+                let given: Vec<usize> = (0..3).filter(|&c| k.mask[3 * jj + c]).collect();
+                if !given.is_empty() {
+                    le += given
+                        .iter()
+                        .map(|&c| (q[c] - k.positions[3 * jj + c] as f64).powi(2))
                         .sum::<f64>()
                         .sqrt();
                     ln += 1;
