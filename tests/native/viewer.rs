@@ -268,6 +268,25 @@ fn ground_and_view_plane_points_project_back_to_their_pixel() {
 }
 
 #[test]
+fn the_front_view_drags_joints_in_x_and_y_only() {
+    let mut cam = OrbitCamera::default();
+    cam.set_angles(0.0, 0.0);
+    let (w, h) = (800.0, 600.0);
+    let joint = glam::Vec3::new(5.0, 120.0, 3.0);
+    let px = cam.project(joint.to_array(), w, h).unwrap();
+    let moved = cam
+        .plane_point(px[0] + 30.0, px[1] - 20.0, w, h, joint)
+        .unwrap();
+    assert!((moved.z - joint.z).abs() < 1e-3, "depth kept: {moved:?}");
+    assert!(moved.x > joint.x && moved.y > joint.y, "right and up: {moved:?}");
+    // pitch is clamped as by orbit; non-finite angles are ignored
+    cam.set_angles(1.0, 10.0);
+    assert!(cam.pitch < 1.56 && cam.yaw == 1.0);
+    cam.set_angles(f32::NAN, 0.0);
+    assert_eq!(cam.yaw, 1.0);
+}
+
+#[test]
 fn sketch_poses_become_skeletons_with_a_selection_marker() {
     let (p, par) = figure(0.0);
     let flat: Vec<f32> = p.iter().flatten().copied().collect();

@@ -285,3 +285,56 @@ test('sketch page: a root path drawn on the ground (root-only keys, Sec. 5.4.1)'
   assert.deepEqual(errors, []);
   await page.close();
 });
+
+test('sketch page: a 2-D key sketched in the front view (Sec. 5.4.2) is met in x and y', async () => {
+  const page = await browser.context.newPage();
+  const errors = watchErrors(page);
+  await page.goto(`${server.url}/web/index.html?webgl2`);
+  await page.waitForSelector('body[data-ready="1"]', { timeout: 120_000 });
+  const setFrame = (f) => page.$eval('#scrub', (el, f) => { el.value = String(f); el.dispatchEvent(new Event('input')); }, f);
+  await setFrame(150); // the example's middle key
+  await page.check('#xy-mode'); // the front view
+  // drag the left hand 40 pixels to the right in the view plane
+  const hand = await page.evaluate(() => window.deeprepState.skeleton.names.indexOf('lHand'));
+  assert.ok(hand > 0);
+  const at = await page.evaluate((j) => {
+    const s = window.deeprepState, k = s.keys.find((x) => x.frame === 150);
+    const p = window.deeprepState.view.project(Array.from(s.skeleton.clip.poseFk(Float32Array.from(k.channels)).slice(3 * j, 3 * j + 3)));
+    const c = s.view.canvas(), r = c.getBoundingClientRect();
+    return [r.left + (p[0] * r.width) / c.width, r.top + (p[1] * r.height) / c.height];
+  }, hand);
+  await page.mouse.move(at[0], at[1]);
+  await page.mouse.down();
+  await page.mouse.move(at[0] + 20, at[1], { steps: 2 });
+  await page.mouse.move(at[0] + 40, at[1], { steps: 2 });
+  await page.mouse.up();
+  const key = await page.evaluate(() => window.deeprepState.keys.find((x) => x.frame === 150));
+  assert.ok(key.xy && !key.channels, `the key became a 2-D key: ${Object.keys(key)}`);
+  assert.equal(key.xy.length, await page.evaluate(() => window.deeprepState.skeleton.names.length));
+  await page.evaluate(() => { delete document.body.dataset.synthesized; });
+  await page.click('#synth');
+  await page.waitForSelector('body[data-synthesized="300"]', { timeout: 120_000 });
+  assert.match(await page.textContent('#timing'), /keys met within/);
+  // after post-processing, every joint's x and y at frame 150 are the sketch's,
+  // except where the drag stretched a bone beyond its length (the dragged
+  // hand's subtree keeps its shape, the bone into it cannot stretch)
+  const miss = await page.evaluate((hand) => {
+    const s = window.deeprepState, J = s.skeleton.names.length, k = s.keys.find((x) => x.frame === 150);
+    const p = s.result.positions.subarray(150 * J * 3, 151 * J * 3);
+    let moved = 0, kept = 0;
+    const inHand = new Set([hand]);
+    for (let j = 0; j < J; j++) if (inHand.has(s.skeleton.parents[j])) inHand.add(j);
+    for (let j = 0; j < J; j++) {
+      const e = Math.hypot(p[3 * j] - k.xy[j][0], p[3 * j + 1] - k.xy[j][1]);
+      if (inHand.has(j)) moved = Math.max(moved, e); else kept = Math.max(kept, e);
+    }
+    return { moved, kept };
+  }, hand);
+  assert.ok(miss.kept < 0.5, `a joint outside the dragged hand misses its x/y by ${miss.kept}`);
+  assert.ok(miss.moved < 40, `the dragged hand misses by ${miss.moved}`);
+  // undo gives the whole pose back
+  await page.click('#undo');
+  assert.ok(await page.evaluate(() => !!window.deeprepState.keys.find((x) => x.frame === 150).channels));
+  assert.deepEqual(errors, []);
+  await page.close();
+});

@@ -5,11 +5,11 @@ import { toCanvas } from '../lib/view.js';
 import { $, setStatus, state } from './state.js';
 import { pushHistory, redo, undo } from './history.js';
 import { exportBvh, importBvh } from './io.js';
-import { onAngleInput, refreshJointEditor, solveDraggedPose } from './joints.js';
-import { fk, subtree } from './skeleton.js';
+import { makeXyKey, onAngleInput, refreshJointEditor, solveDraggedPose } from './joints.js';
+import { subtree } from './skeleton.js';
 import { synthesize } from './synth.js';
 import { addKey, deleteKey, keyAt, refreshTimeline, setFrame, setLength, togglePlay } from './timeline.js';
-import { currentPose, draw, nearestKey } from './view.js';
+import { currentPose, draw, keyPositions, nearestKey } from './view.js';
 
 let drag = null;
 const at = (e) => toCanvas(state.view.canvas(), e);
@@ -22,8 +22,9 @@ export function wireCanvas(canvas) {
     const hit = currentPose() ? state.view.pick(x, y) : -1;
     if (hit >= 0) { state.selected = hit; refreshJointEditor(); draw(); }
     const k = keyAt(state.frame);
+    const shown = k && (k.channels || k.positions);
     drag = { x, y, moveRoot: hit === 0 && !!k?.channels, pushed: false, pan: e.shiftKey,
-             joint: hit > 0 && !!k?.channels && !e.shiftKey ? { index: hit, key: k, positions: Float32Array.from(fk(k.channels)), moved: false } : null };
+             joint: hit > 0 && shown && !e.shiftKey ? { index: hit, key: k, positions: Float32Array.from(keyPositions(k)), moved: false } : null };
   });
   canvas.addEventListener('wheel', (e) => { e.preventDefault(); state.view.zoom(Math.exp(e.deltaY * 0.001)); draw(); }, { passive: false });
 }
@@ -39,6 +40,7 @@ function dropRootKey(x, y) {
   pushHistory();
   const frame = state.frame, k = keyAt(frame);
   if (k && k.channels) { k.channels[0] = p[0]; k.channels[2] = p[2]; } // a pose key moves there instead
+  else if (k && k.xy) { setStatus('this frame has a 2-D key: its root is where it was sketched', true); return; }
   else if (k) k.root = [p[0], height, p[2]];
   else state.keys.push({ frame, root: [p[0], height, p[2]] });
   refreshTimeline();
@@ -77,10 +79,14 @@ function onMove(e) {
 /** The window's and the controls' listeners (once). */
 export function wireInput() {
   window.addEventListener('mouseup', () => {
-    if (drag && drag.joint && drag.joint.moved) solveDraggedPose(drag.joint.key, drag.joint.positions);
+    if (drag && drag.joint && drag.joint.moved) {
+      if ($('xy-mode').checked) makeXyKey(drag.joint.key, drag.joint.positions);
+      else solveDraggedPose(drag.joint.key, drag.joint.positions);
+    }
     drag = null;
   });
   window.addEventListener('mousemove', onMove);
+  $('xy-mode').addEventListener('change', () => { if ($('xy-mode').checked) { state.view.setView(0, 0); draw(); } });
   $('scrub').addEventListener('input', () => setFrame(Number($('scrub').value)));
   $('play').addEventListener('click', togglePlay);
   $('add-key').addEventListener('click', addKey);

@@ -35,6 +35,25 @@ export async function onAngleInput() {
   } catch (e) { setStatus(`edit failed: ${e.message}`, true); }
 }
 
+/**
+ * A joint dragged in the 2-D key mode (Sec. 5.4.2): the key at this frame
+ * becomes a 2-D key giving every joint's x and y (and the root), its depth
+ * left to the networks; post-processing makes the output meet x and y.
+ */
+export function makeXyKey(key, positions) {
+  pushHistory();
+  const p = Array.from(positions);
+  const J = p.length / 3;
+  key.xy = Array.from({ length: J }, (_, j) => [p[3 * j], p[3 * j + 1]]);
+  key.root = [p[0], p[1], p[2]];
+  key.positions = p;
+  delete key.channels;
+  state.dragPose = null;
+  setStatus(`2-D key at frame ${key.frame}: every joint's x and y as sketched; synthesize to lift it to 3-D`);
+  refreshJointEditor();
+  draw();
+}
+
 /** A dragged joint becomes a new key pose: joint positions -> IK network -> channels. */
 export async function solveDraggedPose(key, positions) {
   try {

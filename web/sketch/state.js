@@ -7,7 +7,9 @@ export const state = {
   skeleton: null,      // see skeleton.js: { clip, names, parents, channels }
   library: [],         // [{ name, channels }]
   dnaClip: null,       // the last imported clip's motion, { name, motion } (seeded DNA is drawn from it)
-  keys: [],            // [{ frame, channels }] (a pose) or [{ frame, root }] (a root-only key), sorted by frame
+  // sorted by frame: [{ frame, channels }] (a pose), [{ frame, root }] (a root-only key)
+  // or [{ frame, xy, root, positions }] (a 2-D key: joints' x and y, the root; positions are what is drawn)
+  keys: [],
   length: 300,
   frame: 0,
   playing: false,

@@ -32,9 +32,9 @@ export async function synthesize() {
   if (length !== state.length) { pushHistory(); state.length = length; refreshTimeline(); }
   const keys = state.keys.filter((k) => k.frame < length);
   if (!keys.length) { setStatus('add at least one keyframe first', true); return; }
-  const rootKeys = keys.some((k) => k.root);
-  if (rootKeys && (!state.client.hasModel || $('method').value !== 'model')) {
-    setStatus('root-path keys need the Generative Tweening model (interpolation needs whole poses)', true);
+  const partial = keys.some((k) => k.root || k.xy);
+  if (partial && (!state.client.hasModel || $('method').value !== 'model')) {
+    setStatus('root-path and 2-D keys need the Generative Tweening model (interpolation needs whole poses)', true);
     return;
   }
   const method = state.client.hasModel ? $('method').value : 'slerp';
@@ -44,16 +44,18 @@ export async function synthesize() {
     const t0 = performance.now();
     const dna = dnaChannels();
     const common = { frames: length, post: $('post').checked, footLock: $('footlock').checked, method, variation: Number($('variation').value) };
-    const r = rootKeys
-      // keys of both kinds in the request form (motion::keys), DNA as rows
-      ? await state.client.synthesize({ ...common, keys: keys.map((k) => (k.root ? { frame: k.frame, root: k.root } : { frame: k.frame, channels: k.channels })),
-                                       dna: chunk(dna, state.skeleton.channels) })
+    const asRequest = (k) => (k.xy ? { frame: k.frame, xy: k.xy, root: k.root }
+      : k.root ? { frame: k.frame, root: k.root } : { frame: k.frame, channels: k.channels });
+    const r = partial
+      // keys of every kind in the request form (motion::keys), DNA as rows
+      ? await state.client.synthesize({ ...common, keys: keys.map(asRequest), dna: chunk(dna, state.skeleton.channels) })
       : await state.client.synthesize({ ...common, keyFrames: keys.map((k) => k.frame), keyChannels: keys.flatMap((k) => k.channels), dna });
     state.result = { positions: r.positions, frames: r.frames, bvh: r.bvh, method, times: r.times };
     $('method-badge').textContent = METHOD_NAMES[method] || 'Generative Tweening model';
     $('method-badge').classList.toggle('baseline', method === 'slerp');
     const ms = performance.now() - t0;
     $('timing').textContent = `${r.frames} frames in ${ms.toFixed(0)} ms` + (method === 'model' ? ` (generator ${r.times[0].toFixed(0)} ms, RC-FK ${r.times[1].toFixed(0)}, path ${r.times[2].toFixed(0)}, post ${r.times[3].toFixed(0)})` : '')
+      + (partial && r.keyErrors ? `; keys met within ${r.keyErrors.after.root.toFixed(2)} (root), ${r.keyErrors.after.joints.toFixed(2)} (joints, the coordinates keys give) units; the networks alone missed by ${r.keyErrors.before.root.toFixed(1)}, ${r.keyErrors.before.joints.toFixed(1)}` : '')
       + (r.criticalFrames?.length ? `; hierarchical (a gap over 600 frames): critical keys made first at frames ${r.criticalFrames.join(', ')}` : '');
     $('progress').value = 1;
     $('progress-label').textContent = 'done';

@@ -14,8 +14,8 @@ export function refreshTimeline() {
   for (const k of state.keys) {
     const s = document.createElement('span');
     s.style.left = `${(100 * k.frame) / Math.max(1, state.length - 1)}%`;
-    s.title = k.root ? `root key at frame ${k.frame}` : `key at frame ${k.frame}`;
-    if (k.root) s.classList.add('root');
+    s.title = k.xy ? `2-D key at frame ${k.frame}` : k.root ? `root key at frame ${k.frame}` : `key at frame ${k.frame}`;
+    if (k.xy) s.classList.add('xy'); else if (k.root) s.classList.add('root');
     s.onclick = () => setFrame(k.frame);
     marks.appendChild(s);
   }
@@ -38,7 +38,7 @@ export function addKey() {
   if (!pose) return;
   pushHistory();
   const existing = keyAt(state.frame);
-  if (existing) { existing.channels = pose.channels.slice(); delete existing.root; }
+  if (existing) { existing.channels = pose.channels.slice(); delete existing.root; delete existing.xy; delete existing.positions; }
   else state.keys.push({ frame: state.frame, channels: pose.channels.slice() });
   refreshTimeline();
   draw();

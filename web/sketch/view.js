@@ -3,7 +3,8 @@
 // or the 2-D canvas (view2d.js) when neither is available. Both offer:
 // name, canvas(), draw(scene), pick(x, y) -> joint | -1, orbit, pan, zoom,
 // groundPoint(x, y), groundDelta(x0, y0, x1, y1) -> [dx, dz],
-// dragDelta(p, x0, y0, x1, y1), frame(), project(p), lost(), ensure(), pixels().
+// dragDelta(p, x0, y0, x1, y1), frame(), setView(yaw, pitch) ((0, 0): the
+// front view), project(p), lost(), ensure(), pixels().
 import { openView } from '../lib/view.js';
 import { $, state } from './state.js';
 import { fk } from './skeleton.js';
@@ -45,6 +46,7 @@ function gpuView(lv) {
       return a.length && b.length ? [b[0] - a[0], b[1] - a[1], b[2] - a[2]] : [0, 0, 0];
     },
     frame() { v().frame(); },
+    setView: (yaw, pitch) => v().setView(yaw, pitch),
     project: (p) => v().projectPoint(p[0], p[1], p[2]),
     lost: () => v().deviceLost,
     ensure: () => lv.ensure(),
@@ -102,13 +104,18 @@ export function currentPose() {
     return state.result.positions.subarray(state.frame * J * 3, (state.frame + 1) * J * 3);
   }
   const k = nearestKey(state.frame);
-  return k ? fk(k.channels) : null;
+  return k ? keyPositions(k) : null;
 }
 
-/** The pose key nearest to `frame`, or null. */
+/** The joint positions a key shows: its pose's FK, or a 2-D key's sketched positions. */
+export function keyPositions(k) {
+  return k.channels ? fk(k.channels) : k.positions;
+}
+
+/** The key nearest to `frame` that shows a pose (a whole pose or a 2-D key), or null. */
 export function nearestKey(frame) {
   let best = null;
-  for (const k of state.keys.filter((x) => x.channels)) if (!best || Math.abs(k.frame - frame) < Math.abs(best.frame - frame)) best = k;
+  for (const k of state.keys.filter((x) => x.channels || x.positions)) if (!best || Math.abs(k.frame - frame) < Math.abs(best.frame - frame)) best = k;
   return best;
 }
 
@@ -116,7 +123,7 @@ export function nearestKey(frame) {
 // (a short cross of dots each, so they show before any synthesis).
 function trajectory() {
   const out = [];
-  for (const k of state.keys.filter((x) => x.root)) {
+  for (const k of state.keys.filter((x) => x.root && !x.xy)) {
     for (let d = -6; d <= 6; d += 3) out.push(k.root[0] + d, 0, k.root[2], k.root[0], 0, k.root[2] + d);
   }
   if (state.result) {
@@ -135,10 +142,10 @@ export function draw() {
   }
   $('frame-label').textContent = `${state.frame} / ${state.length}`;
   if (!state.skeleton) return;
-  const poseKeys = state.keys.filter((k) => k.channels);
+  const poseKeys = state.keys.filter((k) => k.channels || k.positions);
   state.view.draw({
     pose: currentPose(),
-    keys: poseKeys.map((k) => fk(k.channels)),
+    keys: poseKeys.map(keyPositions),
     keyFrames: poseKeys.map((k) => k.frame),
     trajectory: trajectory(),
     selected: state.selected,

@@ -102,6 +102,7 @@ export function canvasView(canvas) {
       return [s * dx * Math.cos(yaw), -s * dy, -s * dx * Math.sin(yaw)];
     },
     frame() {},
+    setView(yaw, pitch) { cam.yaw = yaw; cam.pitch = Math.max(-0.2, Math.min(1.4, pitch)); },
     project(p) { const q = camera(cam, canvas)(p); return q ? [q[0], q[1]] : []; },
     lost: () => false,
     ensure: () => null,

@@ -64,6 +64,16 @@ impl OrbitCamera {
         self.pitch = (self.pitch + dy).clamp(-PITCH_LIMIT, PITCH_LIMIT);
     }
 
+    /// Looks from the direction `yaw`, `pitch` (radians; pitch clamped like
+    /// [`orbit`](Self::orbit)'s): `(0, 0)` is the front view, along −z, in
+    /// which x and y are the screen's axes.
+    pub fn set_angles(&mut self, yaw: f32, pitch: f32) {
+        if yaw.is_finite() && pitch.is_finite() {
+            self.yaw = yaw;
+            self.pitch = pitch.clamp(-PITCH_LIMIT, PITCH_LIMIT);
+        }
+    }
+
     /// Pans by a screen drag of `dx`, `dy` pixels in a viewport `height`
     /// pixels tall: the point under the cursor at the target's depth follows it.
     pub fn pan(&mut self, dx: f32, dy: f32, height: f32) {

@@ -210,6 +210,13 @@ impl Viewer {
         self.camera.orbit(-dx * 0.008, dy * 0.008);
     }
 
+    /// Looks from `yaw`, `pitch` (radians): `(0, 0)` is the front view (x
+    /// right, y up), in which 2-D keys are sketched. Non-finite values are ignored.
+    #[wasm_bindgen(js_name = setView)]
+    pub fn set_view(&mut self, yaw: f32, pitch: f32) {
+        self.camera.set_angles(yaw, pitch);
+    }
+
     /// Pans by pixel deltas.
     pub fn pan(&mut self, dx: f32, dy: f32) {
         self.camera.pan(dx, dy, self.config.height as f32);
