@@ -64,6 +64,10 @@ FIXED_ARGS = {
     "residual": ["--method", "residual"],
     # the Generative Tweening generator whatever the residual manifest says
     "generator": ["--method", "generator", "--no-foot-lock"],
+    # the networks from partial keys taken from the clip (issue 20): the root's
+    # position alone (Sec. 5.4.1), or every joint's x and y plus the root (Sec. 5.4.2)
+    "keys-root": ["--method", "model", "--key-kind", "root"],
+    "keys-xy": ["--method", "model", "--key-kind", "xy"],
 }
 
 
@@ -105,6 +109,7 @@ class Config:
     blends: dict = field(default_factory=dict)
     cubic: list = field(default_factory=list)
     hybrid_base: str = None
+    json: str = None
 
     @property
     def diagnostics(self):
@@ -133,6 +138,7 @@ def parse_args(argv=None):
     ap.add_argument("--cubic", action="store_true",
                     help="also score Catmull-Rom splines through the keys, and the model with the spline's root position")
     ap.add_argument("--hybrid-of", default=None, help="the method the hybrids start from (default: the first model method)")
+    ap.add_argument("--json", default=None, help="write the results here instead of docs/inbetween_eval*.json (no plot)")
     a = ap.parse_args(argv)
     return Config(
         gaps=a.gaps, methods=a.methods, split=a.split, dna_gt=a.dna_gt,
@@ -140,6 +146,7 @@ def parse_args(argv=None):
         blends={f"model, blend {w}": float(w) for w in a.blend},
         cubic=["cubic", "model, cubic root position"] if a.cubic else [],
         hybrid_base=a.hybrid_of or next((m for m in a.methods if m.startswith("model")), None),
+        json=a.json,
     )
 
 
@@ -267,6 +274,10 @@ def score(acc, pred, truth, keys, feet, floor, mu, sd):
         P = ((ppos[sl] - off).reshape(b - a - 1, -1) - mu) / sd
         G = ((gpos[sl] - off).reshape(b - a - 1, -1) - mu) / sd
         acc["l2p"].append(np.linalg.norm(P - G, axis=1).mean())
+        # MPJPE: global joint positions between the keys, and root-relative
+        # ones at the interval's first key (what a partial key left to the networks)
+        acc["mpjpe"].append(float(np.linalg.norm(ppos[sl] - gpos[sl], axis=-1).mean()))
+        acc["mpjpe_key"].append(float(np.linalg.norm((ppos[a] - ppos[a, :1]) - (gpos[a] - gpos[a, :1]), axis=-1).mean()))
         qg, qp = mat_to_quat(grot[sl]), mat_to_quat(prot[sl])
         sign = np.sign((qg * qp).sum(-1, keepdims=True))
         sign[sign == 0] = 1
@@ -400,7 +411,7 @@ def main(cfg):
     HYBRIDS, BLENDS, CUBIC, HYBRID_BASE, DIAGNOSTICS = cfg.hybrids, cfg.blends, cfg.cubic, cfg.hybrid_base, cfg.diagnostics
     if DIAGNOSTICS and not (HYBRID_BASE and "slerp" in METHODS):
         sys.exit("--hybrids, --blend and --cubic need slerp and model (or model-nolock) in --methods")
-    acc = {(m, g): {"l2p": [], "l2q": [], "gt": [], "pred": [], "skate": [], "accel": [], "speed": [], "gt_speed": [],
+    acc = {(m, g): {"l2p": [], "l2q": [], "mpjpe": [], "mpjpe_key": [], "gt": [], "pred": [], "skate": [], "accel": [], "speed": [], "gt_speed": [],
                     "keyraw": [], "key": []}
            for m in METHODS + DIAGNOSTICS for g in GAPS}
     gt_skate, gt_accel = [], []
@@ -458,6 +469,7 @@ def main(cfg):
         res[f"{m}@{g}"] = {
             "method": m, "gap": g, "windows": len(a["l2p"]),
             "L2P": float(np.mean(a["l2p"])), "L2Q": float(np.mean(a["l2q"])),
+            "MPJPE": float(np.mean(a["mpjpe"])), "MPJPE_at_keys": float(np.mean(a["mpjpe_key"])),
             "NPSS": float(np.mean([npss(x[None], y[None]) for x, y in zip(a["gt"], a["pred"])])),
             "foot_skate": float(np.mean(a["skate"])),
             "acceleration": float(np.mean(a["accel"])),
@@ -469,12 +481,13 @@ def main(cfg):
     res["ground_truth_foot_skate"] = float(np.mean(gt_skate))
     res["ground_truth_acceleration"] = float(np.mean(gt_accel))
     os.makedirs(os.path.join(ROOT, "docs"), exist_ok=True)
-    out_json = "inbetween_hybrids.json" if DIAGNOSTICS else "inbetween_eval.json" if SPLIT == "val" else "inbetween_eval_train.json"
-    with open(os.path.join(ROOT, "docs", out_json), "w") as f:
+    out_json = cfg.json or os.path.join(ROOT, "docs", "inbetween_hybrids.json" if DIAGNOSTICS else
+                                        "inbetween_eval.json" if SPLIT == "val" else "inbetween_eval_train.json")
+    with open(out_json, "w") as f:
         json.dump(res, f, indent=1)
     print("| metric | method | " + " | ".join(f"gap {g}" for g in GAPS) + " |")
     print("|---|---|" + "---|" * len(GAPS))
-    for metric in ["L2P", "L2Q", "NPSS", "foot_skate", "acceleration", "speed_ratio"]:
+    for metric in ["L2P", "L2Q", "NPSS", "MPJPE", "MPJPE_at_keys", "foot_skate", "acceleration", "speed_ratio"]:
         for m in METHODS + DIAGNOSTICS:
             print(f"| {metric} | {m} | " + " | ".join(f"{res[f'{m}@{g}'][metric]:.3f}" for g in GAPS) + " |")
     print(f"ground-truth foot skating: {res['ground_truth_foot_skate']:.3f} units/frame")
@@ -497,7 +510,7 @@ def main(cfg):
             ax[i].set_title(metric + " (lower is better)")
         ax[0].legend()
         fig.tight_layout()
-        if not DIAGNOSTICS and SPLIT == "val":
+        if not DIAGNOSTICS and SPLIT == "val" and not cfg.json:
             fig.savefig(os.path.join(ROOT, "docs", "inbetween_eval.png"), dpi=110)
     except ImportError:
         print("matplotlib missing: no plot")
