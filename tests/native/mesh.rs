@@ -803,3 +803,161 @@ fn training_files_round_trip_and_reject_hostile_contents() {
         .to_string();
     assert!(e.contains("pose 0"), "{e}");
 }
+
+#[test]
+fn generated_shapes_have_the_structure_their_experiments_need() {
+    use deeprep::mesh::shapes::*;
+    use deeprep::mesh::{Params, Topology};
+    let edge_faces = |tris: &[[usize; 3]]| {
+        let mut m: std::collections::HashMap<(usize, usize), usize> = Default::default();
+        for t in tris {
+            for (a, b) in [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])] {
+                *m.entry((a.min(b), a.max(b))).or_default() += 1;
+            }
+        }
+        m
+    };
+    // a tetrahedral block: (n+1)^3 grid vertices, the inner ones interior,
+    // found again from the faces alone
+    let tet = tet_block(3, 4, 2).unwrap();
+    assert_eq!(tet.positions.len(), 4 * 5 * 3);
+    assert_eq!(tet.interior.len(), 2 * 3);
+    assert_eq!(tet.triangles.len(), 3 * 4 * 2 * 6 * 4);
+    assert_eq!(
+        interior_vertices(tet.positions.len(), &tet.triangles),
+        tet.interior
+    );
+    let t = Topology::from_mesh(
+        &tet.positions,
+        &tet.triangles,
+        &Params::for_mesh(&tet.positions),
+        &[],
+    )
+    .unwrap();
+    assert_eq!(t.rest.len(), tet.positions.len(), "nothing welded");
+    assert!(t.added_edges.is_empty(), "one connected solid");
+    // crossing planes: the axis edges belong to 2 x planes triangles (non-manifold)
+    let tree = crossing_planes(3, 4, 5).unwrap();
+    assert_eq!(tree.positions.len(), 6 + 3 * 4 * 6);
+    assert!(interior_vertices(tree.positions.len(), &tree.triangles).is_empty());
+    let most = edge_faces(&tree.triangles).into_values().max().unwrap();
+    assert_eq!(most, 6, "an axis edge in six triangles");
+    let t = Topology::from_mesh(
+        &tree.positions,
+        &tree.triangles,
+        &Params::for_mesh(&tree.positions),
+        &[],
+    )
+    .unwrap();
+    assert!(t.levels.len() >= 2);
+    // subdivision: V + E vertices, 4 F triangles; poses follow by midpoints
+    let (p, tr, parents) = subdivide(&tet.positions, &tet.triangles[..8]).unwrap();
+    let edges = edge_faces(&tet.triangles[..8]).len();
+    assert_eq!(p.len(), tet.positions.len() + edges);
+    assert_eq!(tr.len(), 32);
+    let moved: Vec<[f32; 3]> = tet
+        .positions
+        .iter()
+        .map(|q| [q[0] + 1.0, 2.0 * q[1], q[2]])
+        .collect();
+    let sub = subdivide_pose(&moved, &parents).unwrap();
+    let [a, b] = parents[0];
+    let mid = sub[tet.positions.len()];
+    assert!((0..3).all(|c| (mid[c] - (moved[a][c] + moved[b][c]) / 2.0).abs() < 1e-6));
+    assert!(subdivide_pose(&moved[..3], &parents).is_err());
+    // deformations: repeatable per seed, finite, smooth (neighbours move alike)
+    let mut r1 = deeprep::rng::Rng::new(5);
+    let mut r2 = deeprep::rng::Rng::new(5);
+    let d = deform(&tet.positions, &mut r1);
+    assert_eq!(d, deform(&tet.positions, &mut r2));
+    assert!(d.iter().flatten().all(|v| v.is_finite()));
+    assert!(d
+        .iter()
+        .zip(&tet.positions)
+        .any(|(a, b)| (a[0] - b[0]).abs() > 1e-3));
+    for &[a, b] in parents.iter().take(20) {
+        let before: f32 = (0..3)
+            .map(|c| (tet.positions[a][c] - tet.positions[b][c]).powi(2))
+            .sum::<f32>()
+            .sqrt();
+        let after: f32 = (0..3)
+            .map(|c| (d[a][c] - d[b][c]).powi(2))
+            .sum::<f32>()
+            .sqrt();
+        assert!(
+            after < 3.0 * before + 1e-4,
+            "an edge stretched from {before} to {after}"
+        );
+    }
+    // OBJ text reads back to the same mesh
+    let back = deeprep::mesh::obj::parse(&to_obj(&tree.positions, &tree.triangles)).unwrap();
+    assert_eq!(back.positions, tree.positions);
+    assert_eq!(back.triangles, tree.triangles);
+    // bad sizes are errors
+    assert!(tet_block(0, 1, 1).is_err() && tet_block(1, 1, 65).is_err());
+    assert!(crossing_planes(1, 4, 4).is_err() && crossing_planes(3, 3, 4).is_err());
+    assert!(subdivide(&tet.positions[..2], &tet.triangles).is_err());
+}
+
+#[test]
+fn the_cli_makes_shapes_and_deformations_for_training() {
+    let dir = std::env::temp_dir().join(format!("deeprep-shapes-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = |f: &str| dir.join(f).to_str().unwrap().to_string();
+    let run = |args: &[&str]| {
+        let r = std::process::Command::new(env!("CARGO_BIN_EXE_deeprep"))
+            .args(args)
+            .output()
+            .unwrap();
+        (
+            r.status.success(),
+            String::from_utf8_lossy(&r.stderr).to_string(),
+        )
+    };
+    let (ok, err) = run(&[
+        "mesh",
+        "shape",
+        "tet",
+        "--out",
+        &p("tet.obj"),
+        "--size",
+        "2",
+    ]);
+    assert!(ok, "{err}");
+    let (ok, err) = run(&[
+        "mesh",
+        "deform",
+        &p("tet.obj"),
+        "--out",
+        &p("d"),
+        "--count",
+        "3",
+        "--seed",
+        "4",
+    ]);
+    assert!(ok, "{err}");
+    let set = deeprep::mesh::files::PoseSet::read(
+        &std::fs::read(p("d.f32")).unwrap(),
+        &std::fs::read_to_string(p("d.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!((set.len(), set.vertices), (3, 3 * 5 * 3));
+    assert_eq!(
+        set.extra["interior"].as_array().unwrap().len(),
+        3,
+        "1 x 3 x 1 inner grid vertices"
+    );
+    let (ok, err) = run(&["mesh", "shape", "cube", "--out", &p("x.obj")]);
+    assert!(!ok && err.contains("mesh shape"), "{err}");
+    let (ok, err) = run(&[
+        "mesh",
+        "deform",
+        &p("tet.obj"),
+        "--out",
+        &p("d"),
+        "--count",
+        "0",
+    ]);
+    assert!(!ok && err.contains("--count"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -9,6 +9,8 @@
 //! - [`rig`]: a rigged glTF character posed on the CPU (rigid parts and
 //!   linear blend skinning, animations sampled at any time).
 //! - [`topology`]: a rig's welded, connected graph and its sampling levels.
+//! - [`shapes`]: meshes the project makes for the thesis' other experiments
+//!   (a tetrahedral block, crossing planes, subdivision) and random deformations.
 //! - [`sampling`]: graph down- and up-sampling that depends on topology
 //!   alone (Sec. 2.2.1, Appendix A.1.2), emitted as the padded index/mask
 //!   tables of Appendix A.1.1 for the training code.
@@ -20,6 +22,7 @@ pub mod graph;
 pub mod obj;
 pub mod rig;
 pub mod sampling;
+pub mod shapes;
 pub mod topology;
 
 #[cfg(feature = "onnx")]

@@ -56,10 +56,19 @@ const USAGE: &str = "usage:
       sampling levels (s = 2, r = 2) with padded index/mask tables, latent seed vertices;
       any topology (pieces, non-manifold edges, isolated vertices); the robot's glTF keeps
       its latent seeds (hands, feet, head, torso)
-  deeprep mesh poses ROBOT.glb --out PREFIX [--fps N] [--random N] [--seed S]
+  deeprep mesh poses ROBOT.glb --out PREFIX [--fps N] [--random N] [--seed S] [--subdivide K]
       every animation clip sampled at N fps (default 30) plus N random poses (default 0;
       each joint turned up to 30 degrees from a random clip frame), welded:
-      PREFIX.f32 (poses x vertices x 3, little-endian) and PREFIX.json (clip per pose)
+      PREFIX.f32 (poses x vertices x 3, little-endian) and PREFIX.json (clip per pose);
+      --subdivide K (0-3): the welded mesh and every pose midpoint-subdivided K times
+      (high resolution, Fig. 2.6), the subdivided rest mesh written as PREFIX.obj
+  deeprep mesh shape tet|tree --out MESH.obj [--size N]
+      a mesh for the thesis' other experiments: tet, a tetrahedralized block of N x 2N x N
+      cubes (every tetrahedron's faces; Fig. 2.8); tree, three crossing quad planes sharing
+      their axis, a non-manifold surface (Fig. 2.9); default N 6
+  deeprep mesh deform MESH.obj --out PREFIX [--count N] [--seed S]
+      N smooth random deformations (a bend, a twist, three bumps) of MESH's welded
+      vertices, as mesh poses writes them; interior vertices of a solid are listed
   deeprep hair dataset --out PREFIX [--base N] [--blends N] [--views N] [--size S] [--seed S]
       procedural hair data (ch. 3): N base styles per class (18 classes: XS..XXL x
       straight/wavy/curly), each mirrored, plus N in-class blends per base style, every
@@ -102,6 +111,14 @@ const COMMANDS: &[Command] = &[
     Command {
         words: &["mesh", "poses"],
         run: mesh::poses,
+    },
+    Command {
+        words: &["mesh", "shape"],
+        run: mesh::shape,
+    },
+    Command {
+        words: &["mesh", "deform"],
+        run: mesh::deform,
     },
     Command {
         words: &["hair", "dataset"],

@@ -23,6 +23,76 @@ pub fn poses(rest: &[&str]) -> Result<(), CliError> {
     }
 }
 
+/// `deeprep mesh shape tet|tree --out MESH.obj [--size N]`.
+pub fn shape(rest: &[&str]) -> Result<(), CliError> {
+    use deeprep::mesh::shapes;
+    let [kind, options @ ..] = rest else {
+        return Err(CliError::Usage);
+    };
+    let o = super::args::options(options, &["out", "size"])?;
+    let out = o.get("out").ok_or(CliError::Usage)?;
+    let size: usize = super::args::parse_opt(&o, "size", 6)?;
+    let s = match *kind {
+        "tet" => shapes::tet_block(size, 2 * size, size),
+        "tree" => shapes::crossing_planes(3, 2 * size.div_ceil(2), 4 * size),
+        _ => return Err(CliError::Usage),
+    }
+    .map_err(|e| e.to_string())?;
+    std::fs::write(out, shapes::to_obj(&s.positions, &s.triangles))
+        .map_err(|e| format!("{out}: {e}"))?;
+    eprintln!(
+        "wrote {out}: {} vertices ({} interior), {} triangles",
+        s.positions.len(),
+        s.interior.len(),
+        s.triangles.len()
+    );
+    Ok(())
+}
+
+/// `deeprep mesh deform MESH.obj --out PREFIX [--count N] [--seed S]`.
+pub fn deform(rest: &[&str]) -> Result<(), CliError> {
+    use deeprep::mesh::{files::PoseSet, shapes};
+    let [file, options @ ..] = rest else {
+        return Err(CliError::Usage);
+    };
+    let o = super::args::options(options, &["out", "count", "seed"])?;
+    let out = o.get("out").ok_or(CliError::Usage)?;
+    let count: usize = super::args::parse_opt(&o, "count", 100)?;
+    let seed: u64 = super::args::parse_opt(&o, "seed", 1)?;
+    if count == 0 || count > MAX_CLIP_POSES {
+        return Err(format!("--count must be 1..={MAX_CLIP_POSES}, got {count}").into());
+    }
+    let (_, t) = any_topology(file)?;
+    let mut set = PoseSet::new(t.rest.len());
+    let mut rng = deeprep::rng::Rng::new(seed);
+    for i in 0..count {
+        set.push(
+            &shapes::deform(&t.rest, &mut rng),
+            serde_json::json!({"clip": "deform", "index": i}),
+        )
+        .map_err(|e| e.to_string())?;
+    }
+    let interior = shapes::interior_vertices(t.rest.len(), &t.triangles);
+    set.extra.insert("source".into(), (*file).into());
+    set.extra.insert("seed".into(), seed.into());
+    if !interior.is_empty() {
+        set.extra.insert("interior".into(), interior.clone().into());
+    }
+    write_set(&set, out)?;
+    eprintln!(
+        "wrote {out}.f32 and {out}.json: {count} deformations x {} vertices ({} interior)",
+        t.rest.len(),
+        interior.len()
+    );
+    Ok(())
+}
+
+fn write_set(set: &deeprep::mesh::files::PoseSet, out: &str) -> Result<(), String> {
+    std::fs::write(format!("{out}.f32"), set.data_bytes())
+        .map_err(|e| format!("{out}.f32: {e}"))?;
+    std::fs::write(format!("{out}.json"), set.meta_json()).map_err(|e| format!("{out}.json: {e}"))
+}
+
 fn robot(path: &str) -> Result<(deeprep::mesh::Rig, deeprep::mesh::Topology), String> {
     let bytes = std::fs::read(path).map_err(|e| format!("{path}: {e}"))?;
     let rig = deeprep::mesh::Rig::from_glb(&bytes).map_err(|e| format!("{path}: {e}"))?;
@@ -80,7 +150,8 @@ fn mesh_topology(path: &str, out: &str) -> Result<(), String> {
 }
 
 fn mesh_poses(path: &str, rest: &[&str]) -> Result<(), String> {
-    let (mut out, mut fps, mut random, mut seed) = (None, 30.0f32, 0usize, 1u64);
+    let (mut out, mut fps, mut random, mut seed, mut subdiv) =
+        (None, 30.0f32, 0usize, 1u64, 0usize);
     let mut i = 0;
     while i < rest.len() {
         let val = rest
@@ -103,6 +174,13 @@ fn mesh_poses(path: &str, rest: &[&str]) -> Result<(), String> {
                     .parse()
                     .map_err(|_| format!("--seed expects an integer, got '{val}'"))?
             }
+            "--subdivide" => {
+                subdiv = val
+                    .parse()
+                    .ok()
+                    .filter(|k| *k <= 3)
+                    .ok_or_else(|| format!("--subdivide expects 0 to 3, got '{val}'"))?
+            }
             a => return Err(format!("unknown option '{a}'\n{USAGE}")),
         }
         i += 2;
@@ -117,9 +195,39 @@ fn mesh_poses(path: &str, rest: &[&str]) -> Result<(), String> {
         ));
     }
     let (rig, t) = robot(path)?;
-    let mut set = deeprep::mesh::files::PoseSet::new(t.rest.len());
+    // --subdivide K: the welded mesh subdivided K times (midpoints), each
+    // pose with it; the subdivided rest mesh is written as PREFIX.obj
+    let (mut positions, mut triangles, mut steps) =
+        (t.rest.clone(), t.triangles.clone(), Vec::new());
+    for _ in 0..subdiv {
+        let (p, tr, parents) =
+            deeprep::mesh::shapes::subdivide(&positions, &triangles).map_err(|e| e.to_string())?;
+        (positions, triangles) = (p, tr);
+        steps.push(parents);
+    }
+    if subdiv > 0 {
+        // the OBJ's own topology must keep this vertex order (no two vertices welded)
+        let check = deeprep::mesh::Topology::from_mesh(
+            &positions,
+            &triangles,
+            &deeprep::mesh::Params::for_mesh(&positions),
+            &[],
+        )
+        .map_err(|e| e.to_string())?;
+        if check.weld_map.iter().enumerate().any(|(i, &w)| i != w) {
+            return Err("--subdivide: the subdivided mesh welds some vertices together".into());
+        }
+        let obj = format!("{out}.obj");
+        std::fs::write(&obj, deeprep::mesh::shapes::to_obj(&positions, &triangles))
+            .map_err(|e| format!("{obj}: {e}"))?;
+    }
+    let mut set = deeprep::mesh::files::PoseSet::new(positions.len());
     let mut push = |pose: Vec<[f32; 3]>, label: serde_json::Value| -> Result<(), String> {
-        let welded = t.weld_pose(&pose).map_err(|e| e.to_string())?;
+        let mut welded = t.weld_pose(&pose).map_err(|e| e.to_string())?;
+        for parents in &steps {
+            welded = deeprep::mesh::shapes::subdivide_pose(&welded, parents)
+                .map_err(|e| e.to_string())?;
+        }
         set.push(&welded, label).map_err(|e| e.to_string())
     };
     for (k, a) in rig.animations.iter().enumerate() {
@@ -148,15 +256,14 @@ fn mesh_poses(path: &str, rest: &[&str]) -> Result<(), String> {
     set.extra.insert("source".into(), path.into());
     set.extra.insert("fps".into(), fps.into());
     set.extra.insert("seed".into(), seed.into());
-    std::fs::write(format!("{out}.f32"), set.data_bytes())
-        .map_err(|e| format!("{out}.f32: {e}"))?;
-    std::fs::write(format!("{out}.json"), set.meta_json())
-        .map_err(|e| format!("{out}.json: {e}"))?;
-    let labels = &set.labels;
+    if subdiv > 0 {
+        set.extra.insert("subdivide".into(), subdiv.into());
+    }
+    write_set(&set, &out)?;
     eprintln!(
         "wrote {out}.f32 and {out}.json: {} poses x {} vertices",
-        labels.len(),
-        t.rest.len()
+        set.len(),
+        set.vertices
     );
     Ok(())
 }
