@@ -120,14 +120,24 @@ def main():
     ap.add_argument("--name", default="full")
     ap.add_argument("--form", default="factored", choices=["factored", "matmul", "einsum"])
     ap.add_argument("--suffix", default="", help="appended to the file names (for the op-form comparison)")
+    ap.add_argument("--out", default=ONNX_DIR, help="directory of the exported files (default models/onnx: the bundled "
+                                                    "robot model, its fixtures and per-graph manifests)")
+    ap.add_argument("--topology", default=None, help="topology file (default: the one the run recorded, else the robot's)")
+    ap.add_argument("--test", default=None, help="test pose prefix for the parity inputs (default: the run's)")
+    ap.add_argument("--training-data", default=None, help="the manifest's training_data sentence (default: the robot's)")
     args = ap.parse_args()
-    topo = load_topology(os.path.join(CACHE, "topology.json"))
     ck = torch.load(os.path.join(CACHE, f"{args.name}.pt"), weights_only=False)
-    net = MeshAE(topo, residual=None if ck["residual"] == "none" else ck["residual"])
+    # a run of train_mesh.py --topology/--test records its files; the robot's otherwise
+    topo = load_topology(args.topology or ck.get("topology", os.path.join(CACHE, "topology.json")))
+    test_prefix = args.test or ck.get("test", os.path.join(CACHE, "test"))
+    bundled = os.path.abspath(args.out) == os.path.abspath(ONNX_DIR)
+    os.makedirs(args.out, exist_ok=True)
+    net = MeshAE(topo, widths=ck.get("widths", (3, 16, 32, 64, 16)), m=ck.get("m"),
+                 residual=None if ck["residual"] == "none" else ck["residual"])
     net.load_state_dict(ck["net"])
     net.eval()
     enc, dec = Encoder(net, args.form).eval(), Decoder(net, args.form).eval()
-    test = np.fromfile(os.path.join(CACHE, "test.f32"), dtype="<f4").reshape(-1, len(topo["rest"]), 3)[:2]
+    test = np.fromfile(test_prefix + ".f32", dtype="<f4").reshape(-1, len(topo["rest"]), 3)[:2]
     x = torch.tensor((test - np.array(ck["center"], dtype=np.float32)) / ck["height"])
     with torch.no_grad():
         z, y = enc(x), dec(enc(x))
@@ -135,7 +145,7 @@ def main():
     print("frozen vs training graph:", float((y - ref).abs().max()))
     out = {}
     for name, mod, inp, iname, oname in [("mesh_encoder", enc, x, "positions", "latent"), ("mesh_decoder", dec, z, "latent", "positions")]:
-        path = os.path.join(ONNX_DIR, f"{name}{args.suffix}.onnx")
+        path = os.path.join(args.out, f"{name}{args.suffix}.onnx")
         torch.onnx.export(mod, (inp,), path, dynamo=False, opset_version=17, input_names=[iname], output_names=[oname],
                           dynamic_axes={iname: {0: "batch"}, oname: {0: "batch"}})
         sess = ort.InferenceSession(path, providers=["CPUExecutionProvider"])
@@ -144,7 +154,7 @@ def main():
             parity = float(np.abs(o - mod(inp).numpy()).max())
         print(name, args.form, "parity torch vs onnxruntime", parity)
         out[name] = parity
-        if not args.suffix:
+        if not args.suffix and bundled:
             write_json(os.path.join(ONNX_DIR, "fixtures", f"{name}.json"), {
                 "model": f"{name}.onnx", "input_name": iname, "input_shape": list(inp.shape),
                 "input": [float(v) for v in inp.numpy().ravel()],
@@ -164,23 +174,24 @@ def main():
             "levels": [len(topo["rest"])] + [len(l["selected"]) for l in topo["levels"]],
             "training": res,
             "parity_torch_vs_onnxruntime": out,
-            "training_data": "RobotExpressive.glb (CC0) posed by `deeprep mesh poses`: 12 clips + 3,000 random poses (seed 1) for training; clips Wave and Punch and 300 random poses (seed 2) held out",
+            "training_data": args.training_data or "RobotExpressive.glb (CC0) posed by `deeprep mesh poses`: 12 clips + 3,000 random poses (seed 1) for training; clips Wave and Punch and 300 random poses (seed 2) held out",
             "topology": "deeprep mesh topology (welded, components joined, s = 2, r = 2)",
             "training_code_commit": git_commit(),
             "exporter": {"torch": torch.__version__, "dynamo": False, "opset": 17},
         }
-        write_json(os.path.join(ONNX_DIR, "mesh_autoencoder.manifest.json"), manifest)
+        write_json(os.path.join(args.out, "mesh_autoencoder.manifest.json"), manifest)
         # per-graph manifests for the generic parity test
-        for g in ("mesh_encoder", "mesh_decoder"):
+        for g in ("mesh_encoder", "mesh_decoder") if bundled else ():
             io = {"mesh_encoder": ([{"name": "positions", "shape": manifest["inputs"]["encoder"]}], [{"name": "latent", "shape": manifest["inputs"]["decoder"]}]),
                   "mesh_decoder": ([{"name": "latent", "shape": manifest["inputs"]["decoder"]}], [{"name": "positions", "shape": manifest["inputs"]["encoder"]}])}[g]
             write_json(os.path.join(ONNX_DIR, f"{g}.manifest.json"), {"name": g, "see": "mesh_autoencoder.manifest.json", "inputs": io[0], "outputs": io[1],
                                                                      **{k: manifest[k] for k in ("normalization", "training", "training_data", "training_code_commit")}})
+    return args.out
 
 
 if __name__ == "__main__":
-    main()
+    out = main()
     # the shipped files keep their weights as float16 (issue 21)
     from half_weights import convert
     for name in ("mesh_encoder", "mesh_decoder"):
-        convert(name)
+        convert(name, out)

@@ -76,14 +76,16 @@ def ik_positions(values):
     return [float(v) for v in rec.numpy().ravel()]
 
 
-def convert(name):
-    path = os.path.join(ONNX_DIR, f"{name}.onnx")
+def convert(name, directory=ONNX_DIR):
+    """Stores `directory/name.onnx`'s weights as float16 (its fixture and
+    manifest there updated when they exist)."""
+    path = os.path.join(directory, f"{name}.onnx")
     model = onnx.load(path)
     if any(i.name.endswith(HALF_SUFFIX) for i in model.graph.initializer):
         print(f"{name}: already float16, left alone")
         return
     before = os.path.getsize(path)
-    fpath = os.path.join(ONNX_DIR, "fixtures", f"{name}.json")
+    fpath = os.path.join(directory, "fixtures", f"{name}.json")
     fixture = json.load(open(fpath)) if os.path.exists(fpath) else None
     ref = run(path, fixture) if fixture else None
     n = to_half(model)
@@ -103,7 +105,7 @@ def convert(name):
         write_json(fpath, fixture)
     with open(path, "wb") as fh:
         fh.write(data)
-    mpath = os.path.join(ONNX_DIR, f"{name}.manifest.json")
+    mpath = os.path.join(directory, f"{name}.manifest.json")
     if os.path.exists(mpath):
         m = json.load(open(mpath))
         m["weights"] = record

@@ -100,7 +100,8 @@ def main():
     nbr = torch.tensor([a + [0] * (w - len(a)) for a in adj])
     nmask = torch.tensor([[1.0] * len(a) + [0.0] * (w - len(a)) for a in adj])
     residual = None if args.residual == "none" else args.residual
-    net = MeshAE(topo, widths=default_widths(len(topo["levels"])), m=args.m, residual=residual)
+    widths = default_widths(len(topo["levels"]))
+    net = MeshAE(topo, widths=widths, m=args.m, residual=residual)
     params = sum(p.numel() for p in net.parameters())
     opt = torch.optim.Adam(net.parameters(), lr=1e-3)
     g = torch.Generator().manual_seed(args.seed)
@@ -133,7 +134,9 @@ def main():
         res["mean_error_surface_pct_bbox"] = 100 * errs[:, ~inner].mean().item() / bbox
     print(json.dumps(res), flush=True)
     os.makedirs(CACHE, exist_ok=True)
-    torch.save({"net": net.state_dict(), "residual": args.residual, "center": center.tolist(), "height": height, "result": res},
+    torch.save({"net": net.state_dict(), "residual": args.residual, "center": center.tolist(), "height": height, "result": res,
+                "widths": list(widths), "m": args.m, "topology": os.path.abspath(args.topology),
+                "test": os.path.abspath(args.test)},
                os.path.join(CACHE, f"{name}.pt"))
     out = os.path.join(ROOT, "docs", "mesh_results.json")
     allr = json.load(open(out)) if os.path.exists(out) else {}

@@ -1,6 +1,6 @@
 // deeprep mesh worker: the mesh autoencoder (MeshLab) off the main thread.
-//   -> {type: 'init', id, glb (ArrayBuffer), modelBase}
-//   <- {type: 'result', id, vertexCount, triangles, clipNames, clipDurations, latentVertices, latentNames, latentRegions, latentChannels}
+//   -> {type: 'init', id, glb (ArrayBuffer) | obj (text), modelBase | models: {encoder, decoder (ArrayBuffer), manifest (text)}}
+//   <- {type: 'result', id, vertexCount, triangles, hasRig, clipNames, clipDurations, latentVertices, latentNames, latentRegions, latentChannels, trainedOn}
 //   -> {type: 'pose', id, clip, time} | {type: 'random', id, seed, degrees}   <- {positions}
 //   -> {type: 'encode', id, positions}   <- {codes, recon, encodeMs, decodeMs}
 //   -> {type: 'blend', id, a, b, vertex, t}   <- {positions, decodeMs}
@@ -18,21 +18,24 @@ async function handle(msg) {
   if (msg.type === 'init') {
     postMessage({ type: 'progress', id, stage: 'loading the mesh autoencoder' });
     const base = msg.modelBase;
-    const [enc, dec, manifest] = await Promise.all([
-      fetchBytes(`${base}/mesh_encoder.onnx`), fetchBytes(`${base}/mesh_decoder.onnx`),
-      fetchText(`${base}/mesh_autoencoder.manifest.json`, 'mesh manifest'),
-    ]);
-    postMessage({ type: 'progress', id, stage: 'reading the glTF and sampling its graph' });
-    const next = new MeshLab(new Uint8Array(msg.glb), enc, dec, manifest);
+    const [enc, dec, manifest] = msg.models
+      ? [new Uint8Array(msg.models.encoder), new Uint8Array(msg.models.decoder), msg.models.manifest]
+      : await Promise.all([
+        fetchBytes(`${base}/mesh_encoder.onnx`), fetchBytes(`${base}/mesh_decoder.onnx`),
+        fetchText(`${base}/mesh_autoencoder.manifest.json`, 'mesh manifest'),
+      ]);
+    postMessage({ type: 'progress', id, stage: 'reading the mesh and sampling its graph' });
+    // the previous mesh and model stay loaded if this fails
+    const next = msg.obj != null ? MeshLab.fromObj(msg.obj, enc, dec, manifest) : new MeshLab(new Uint8Array(msg.glb), enc, dec, manifest);
     if (lab) lab.free();
     lab = next;
     return {
-      vertexCount: lab.vertexCount, triangles: lab.triangles, clipNames: lab.clipNames,
+      vertexCount: lab.vertexCount, triangles: lab.triangles, hasRig: lab.hasRig, clipNames: lab.clipNames,
       clipDurations: Array.from(lab.clipDurations), latentVertices: Array.from(lab.latentVertices),
       latentNames: lab.latentNames, latentRegions: lab.latentRegions, latentChannels: lab.latentChannels,
     };
   }
-  if (!lab) throw new Error('load a robot first');
+  if (!lab) throw new Error('load a mesh first');
   if (msg.type === 'pose') return { positions: lab.clipPose(msg.clip, msg.time) };
   if (msg.type === 'random') return { positions: lab.randomPose(msg.seed >>> 0, msg.degrees) };
   if (msg.type === 'encode') {

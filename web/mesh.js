@@ -64,6 +64,12 @@ function setupView(frame) {
   if (frame) v.frame();
 }
 
+function highestY(p) {
+  let y = -Infinity;
+  for (let i = 1; i < p.length; i += 3) y = Math.max(y, p[i]);
+  return Number.isFinite(y) ? y : 0;
+}
+
 function lowestY(p) {
   let y = Infinity;
   for (let i = 1; i < p.length; i += 3) y = Math.min(y, p[i]);
@@ -117,6 +123,8 @@ function distances(p, q) {
 const mean = (a) => a.reduce((s, x) => s + x, 0) / Math.max(a.length, 1);
 
 async function poseOf(which) {
+  // a template without clips: random smooth deformations (seed per pose slot)
+  if (!state.info.clipNames.length) return (await request({ type: 'random', seed: which === 'a' ? 1 : 2, degrees: 30 })).positions;
   const clip = Number($(`clip-${which}`).value);
   const time = Number($(`time-${which}`).value) * state.info.clipDurations[clip];
   return (await request({ type: 'pose', clip, time })).positions;
@@ -159,7 +167,7 @@ function showNumbers() {
   if (state.a) {
     rows.push(['A: mean error (units)', fmt(state.a.meanError)]);
     rows.push(['A: max error (units)', fmt(state.a.maxError)]);
-    rows.push(['A: mean error / robot height', `${fmt((100 * state.a.meanError) / 4.46, 2)} %`]);
+    rows.push([`A: mean error / ${state.info.source}'s height`, `${fmt((100 * state.a.meanError) / state.info.height, 2)} %`]);
   }
   const t = state.timings.at(-1);
   if (t) rows.push(['encode / decode (ms, in the worker)', `${fmt(t.encodeMs, 0)} / ${fmt(t.decodeMs, 0)}`]);
@@ -176,10 +184,14 @@ function showNumbers() {
 }
 
 // ---------------------------------------------------------------- loading
-async function loadRobot(bytes, source) {
+// A mesh (glb bytes or obj text) with the bundled model or the user's
+// ({encoder, decoder, manifest}); the worker refuses, with the reason, a
+// model trained on another mesh, and keeps what it had.
+async function loadTemplate({ glb, obj, models }, source) {
   setStatus(`reading ${source}…`);
-  const info = await request({ type: 'init', glb: bytes, modelBase: MODEL_BASE });
+  const info = await request({ type: 'init', glb, obj, models, modelBase: MODEL_BASE });
   info.ground = 0;
+  info.source = source;
   state.info = info;
   state.a = state.b = state.edit = null;
   for (const w of ['a', 'b']) {
@@ -198,14 +210,45 @@ async function loadRobot(bytes, source) {
   const hand = info.latentNames.indexOf('Palm2.R');
   state.latent = hand >= 0 ? hand : 0;
   $('latent').value = String(state.latent);
+  for (const w of ['a', 'b']) for (const id of [`clip-${w}`, `time-${w}`]) $(id).disabled = !info.clipNames.length;
   await encodePose('b', await poseOf('b'));
   await updatePose('a');
   info.ground = lowestY(state.a.positions);
+  info.height = Math.max(1e-6, highestY(state.a.positions) - info.ground);
   setupView(true);
   showNumbers();
   draw();
-  $('glb-note').textContent = `${source}: ${info.vertexCount} welded vertices, ${info.triangles.length / 3} triangles, ${info.clipNames.length} clips`;
+  $('glb-note').textContent = `${source}: ${info.vertexCount} welded vertices, ${info.triangles.length / 3} triangles, `
+    + (info.clipNames.length ? `${info.clipNames.length} clips` : 'no clips (poses are random smooth deformations)');
+  document.body.dataset.template = source;
   setStatus('ready');
+}
+
+async function loadRobot(bytes, source) { return loadTemplate({ glb: bytes }, source); }
+
+// The "Your mesh and model" section: an OBJ or glTF, and optionally the
+// three model files (told apart by name: *encoder*.onnx, *decoder*.onnx, *.json).
+async function loadUserFiles() {
+  const mesh = $('user-mesh').files[0];
+  if (!mesh) { setStatus('choose a mesh file first', true); return; }
+  const files = [...$('user-model').files];
+  const find = (test) => files.find((f) => test(f.name.toLowerCase()));
+  let models;
+  if (files.length) {
+    const [enc, dec, man] = [find((n) => n.includes('encoder') && n.endsWith('.onnx')), find((n) => n.includes('decoder') && n.endsWith('.onnx')), find((n) => n.endsWith('.json'))];
+    if (!enc || !dec || !man) { setStatus('the model needs three files: an encoder .onnx, a decoder .onnx and its manifest .json', true); return; }
+    models = { encoder: await enc.arrayBuffer(), decoder: await dec.arrayBuffer(), manifest: await man.text() };
+  }
+  const isObj = mesh.name.toLowerCase().endsWith('.obj');
+  try {
+    await loadTemplate(isObj ? { obj: await mesh.text(), models } : { glb: await mesh.arrayBuffer(), models }, mesh.name);
+    delete document.body.dataset.loadError;
+    delete document.body.dataset.needsGlb;
+    document.body.dataset.ready = '1';
+  } catch (err) {
+    setStatus(`cannot use ${mesh.name}${models ? ' with that model' : ' with the bundled robot model'}: ${err.message}`, true);
+    document.body.dataset.loadError = err.message;
+  }
 }
 
 async function loadDefault() {
@@ -251,6 +294,7 @@ function wireInput() {
   $('blend').addEventListener('input', () => latest('edit', updateEdit));
   for (const r of document.querySelectorAll('input[name=show]')) r.addEventListener('change', draw);
   $('show-latent').addEventListener('change', draw);
+  $('user-load').addEventListener('click', loadUserFiles);
   $('glb').addEventListener('change', async (e) => {
     const f = e.target.files[0];
     if (!f) return;

@@ -961,3 +961,48 @@ fn the_cli_makes_shapes_and_deformations_for_training() {
     assert!(!ok && err.contains("--count"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn a_model_trained_on_another_template_runs_on_it_and_only_on_it() {
+    use deeprep::mesh::{MeshCodec, Template};
+    // tests/fixtures/mesh_tet: `deeprep mesh shape tet --size 3` and a small
+    // autoencoder trained 2 minutes on its deformations (train_mesh.py,
+    // export_mesh.py --out)
+    let dir = common::root().join("tests/fixtures/mesh_tet");
+    let obj = std::fs::read_to_string(dir.join("tet.obj")).unwrap();
+    let tet = Template::from_obj(&obj).unwrap();
+    assert!(tet.rig.is_none());
+    let codec = MeshCodec::load_dir(&dir).unwrap();
+    tet.check_model(codec.vertices(), codec.levels(), codec.trained_on())
+        .unwrap();
+    // a deformation like the training set's reconstructs to a few % of the size
+    let pose = tet.random_pose(9, 30.0).unwrap();
+    let rec = codec.decode(&codec.encode(&pose).unwrap()).unwrap();
+    let err = pose
+        .iter()
+        .zip(&rec)
+        .map(|(a, b)| (0..3).map(|c| (a[c] - b[c]).powi(2)).sum::<f32>().sqrt())
+        .sum::<f32>()
+        / pose.len() as f32;
+    assert!(
+        err < 0.1,
+        "mean reconstruction error {err} (the block is 1 unit tall)"
+    );
+    assert!(tet.clip_pose(0, 0.0).is_err(), "no clips without a rig");
+    // the bundled robot model on the tet, and the tet model on a grid: errors naming both
+    let robot = MeshCodec::load_dir(&common::root().join("models/onnx")).unwrap();
+    let e = tet
+        .check_model(robot.vertices(), robot.levels(), robot.trained_on())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("112 vertices") && e.contains("RobotExpressive.glb"),
+        "{e}"
+    );
+    let grid = Template::from_obj(&grid_obj(6, 6, 0.0, 0)).unwrap();
+    let e = grid
+        .check_model(codec.vertices(), codec.levels(), codec.trained_on())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("36 vertices") && e.contains("tet.obj"), "{e}");
+}

@@ -278,7 +278,10 @@ fn the_front_view_drags_joints_in_x_and_y_only() {
         .plane_point(px[0] + 30.0, px[1] - 20.0, w, h, joint)
         .unwrap();
     assert!((moved.z - joint.z).abs() < 1e-3, "depth kept: {moved:?}");
-    assert!(moved.x > joint.x && moved.y > joint.y, "right and up: {moved:?}");
+    assert!(
+        moved.x > joint.x && moved.y > joint.y,
+        "right and up: {moved:?}"
+    );
     // pitch is clamped as by orbit; non-finite angles are ignored
     cam.set_angles(1.0, 10.0);
     assert!(cam.pitch < 1.56 && cam.yaw == 1.0);

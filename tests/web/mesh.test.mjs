@@ -102,3 +102,35 @@ test('mesh page without the robot asks for the file, then loads it from the pick
   assert.ok(errors.every((e) => /404/.test(e)), errors.join(' | '));
   await page.close();
 });
+
+test('mesh page: a non-robot mesh with its own model loads; with the robot model it is refused, saying why', async () => {
+  // no shared data needed: the page starts without the robot
+  if (!server) { server = await startServer(); browser = await launch(); }
+  const page = await browser.context.newPage();
+  const errors = watchErrors(page);
+  await page.goto(`${server.url}/web/mesh.html?glb=${encodeURIComponent('../nowhere/none.glb')}`);
+  await page.waitForSelector('body[data-needs-glb="1"]', { timeout: 60_000 });
+  const dir = path.join(ROOT, 'tests/fixtures/mesh_tet');
+  // the tet block with the bundled robot model: a clear refusal
+  await page.setInputFiles('#user-mesh', path.join(dir, 'tet.obj'));
+  await page.click('#user-load');
+  await page.waitForSelector('body[data-load-error]', { timeout: 60_000 });
+  const refusal = await page.textContent('#status');
+  assert.match(refusal, /cannot use tet\.obj with the bundled robot model: this mesh welds to 112 vertices .* trained on RobotExpressive\.glb/);
+  // with its own model (tests/fixtures/mesh_tet, trained 2 minutes): loaded, encoded, drawn
+  await page.setInputFiles('#user-model', ['mesh_encoder.onnx', 'mesh_decoder.onnx', 'mesh_autoencoder.manifest.json'].map((f) => path.join(dir, f)));
+  await page.click('#user-load');
+  await page.waitForSelector('body[data-template="tet.obj"][data-ready="1"]', { timeout: 60_000 });
+  assert.match(await page.textContent('#glb-note'), /112 welded vertices.*no clips/);
+  const a = await page.evaluate(() => ({ err: window.deeprepMesh.a.meanError, n: window.deeprepMesh.a.positions.length / 3 }));
+  assert.equal(a.n, 112);
+  assert.ok(a.err < 0.1, `mean reconstruction error ${a.err} on a 1-unit block`);
+  const s = await stats(page);
+  assert.ok(s.lit > 0.005 * s.total, `drawn: ${JSON.stringify(s)}`);
+  // a model with a missing file is refused before loading
+  await page.setInputFiles('#user-model', [path.join(dir, 'mesh_encoder.onnx')]);
+  await page.click('#user-load');
+  await page.waitForFunction(() => /three files/.test(document.getElementById('status').textContent));
+  assert.ok(errors.every((e) => /404/.test(e)), errors.join(' | '));
+  await page.close();
+});

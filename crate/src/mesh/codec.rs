@@ -17,6 +17,8 @@ struct Manifest {
     normalization: Norm,
     levels: Vec<usize>,
     inputs: Inputs,
+    #[serde(default)]
+    training_data: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -32,6 +34,7 @@ pub struct MeshCodec {
     vertices: usize,
     levels: usize,
     latent: (usize, usize),
+    trained_on: String,
 }
 
 impl MeshCodec {
@@ -70,6 +73,12 @@ impl MeshCodec {
             vertices,
             levels: m.levels.len(),
             latent: (l, c),
+            trained_on: m
+                .training_data
+                .as_deref()
+                .and_then(|t| t.split(" posed by").next())
+                .unwrap_or("its training mesh")
+                .to_string(),
         })
     }
 
@@ -89,6 +98,11 @@ impl MeshCodec {
     /// Welded vertices per mesh.
     pub fn vertices(&self) -> usize {
         self.vertices
+    }
+
+    /// What the model was trained on, from its manifest (for messages).
+    pub fn trained_on(&self) -> &str {
+        &self.trained_on
     }
 
     /// Latent vertices and channels per latent vertex.

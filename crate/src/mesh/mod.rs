@@ -11,6 +11,8 @@
 //! - [`topology`]: a rig's welded, connected graph and its sampling levels.
 //! - [`shapes`]: meshes the project makes for the thesis' other experiments
 //!   (a tetrahedral block, crossing planes, subdivision) and random deformations.
+//! - [`template`]: any OBJ or glTF as an autoencoder's template (welded mesh,
+//!   sampling, its rig when it has one).
 //! - [`sampling`]: graph down- and up-sampling that depends on topology
 //!   alone (Sec. 2.2.1, Appendix A.1.2), emitted as the padded index/mask
 //!   tables of Appendix A.1.1 for the training code.
@@ -23,6 +25,7 @@ pub mod obj;
 pub mod rig;
 pub mod sampling;
 pub mod shapes;
+pub mod template;
 pub mod topology;
 
 #[cfg(feature = "onnx")]
@@ -30,4 +33,5 @@ pub use codec::MeshCodec;
 pub use graph::Graph;
 pub use rig::Rig;
 pub use sampling::{sample, NeighborTable, Sampling};
+pub use template::Template;
 pub use topology::{Params, Topology, ROBOT_SEED_NODES};

@@ -3,22 +3,37 @@
 use super::{flat3, install_panic_hook, js_err, points3};
 use wasm_bindgen::prelude::*;
 
-/// The mesh autoencoder (thesis ch. 2) with the rig it was trained on
-/// (RobotExpressive.glb): poses the robot, encodes its welded mesh into a
-/// few latent vertices, decodes, and edits one latent vertex's code (Fig. 2.7).
-/// Positions are flat `vertices × 3` arrays of the welded mesh.
+/// The mesh autoencoder (thesis ch. 2) with the mesh it was trained on (the
+/// bundled RobotExpressive.glb, or any OBJ or glTF template a model was
+/// trained on): poses or deforms the mesh, encodes its welded mesh into a
+/// few latent vertices, decodes, and edits one latent vertex's code (Fig.
+/// 2.7). Positions are flat `vertices × 3` arrays of the welded mesh.
 #[wasm_bindgen]
 pub struct MeshLab {
-    rig: crate::mesh::Rig,
-    topo: crate::mesh::Topology,
+    template: crate::mesh::Template,
     codec: crate::mesh::MeshCodec,
+}
+
+impl MeshLab {
+    fn with(
+        template: crate::mesh::Template,
+        encoder: &[u8],
+        decoder: &[u8],
+        manifest: &str,
+    ) -> Result<MeshLab, JsError> {
+        let codec = crate::mesh::MeshCodec::new(encoder, decoder, manifest).map_err(js_err)?;
+        template
+            .check_model(codec.vertices(), codec.levels(), codec.trained_on())
+            .map_err(js_err)?;
+        Ok(MeshLab { template, codec })
+    }
 }
 
 #[wasm_bindgen]
 impl MeshLab {
-    /// Loads the rig (`.glb` bytes) and the autoencoder (encoder and decoder
-    /// `.onnx` bytes, `mesh_autoencoder.manifest.json` text). Fails when the
-    /// rig's welded mesh is not the one the model was trained on.
+    /// Loads a glTF template (`.glb` bytes) and the autoencoder (encoder and
+    /// decoder `.onnx` bytes, `mesh_autoencoder.manifest.json` text). Fails,
+    /// naming both, when the glTF's welded mesh is not the model's.
     #[wasm_bindgen(constructor)]
     pub fn new(
         glb: &[u8],
@@ -27,31 +42,41 @@ impl MeshLab {
         manifest: &str,
     ) -> Result<MeshLab, JsError> {
         install_panic_hook();
-        let rig = crate::mesh::Rig::from_glb(glb).map_err(js_err)?;
-        let topo = crate::mesh::Topology::robot(&rig).map_err(js_err)?;
-        let codec = crate::mesh::MeshCodec::new(encoder, decoder, manifest).map_err(js_err)?;
-        if topo.rest.len() != codec.vertices() || topo.levels.len() + 1 != codec.levels() {
-            return Err(JsError::new(&format!(
-                "this glTF welds to {} vertices in {} levels; the mesh model was trained on RobotExpressive.glb ({} vertices, {} levels)",
-                topo.rest.len(),
-                topo.levels.len() + 1,
-                codec.vertices(),
-                codec.levels()
-            )));
-        }
-        Ok(MeshLab { rig, topo, codec })
+        let template = crate::mesh::Template::from_glb(glb).map_err(js_err)?;
+        MeshLab::with(template, encoder, decoder, manifest)
+    }
+
+    /// The same for an OBJ template (its text).
+    #[wasm_bindgen(js_name = fromObj)]
+    pub fn from_obj(
+        obj: &str,
+        encoder: &[u8],
+        decoder: &[u8],
+        manifest: &str,
+    ) -> Result<MeshLab, JsError> {
+        install_panic_hook();
+        let template = crate::mesh::Template::from_obj(obj).map_err(js_err)?;
+        MeshLab::with(template, encoder, decoder, manifest)
+    }
+
+    /// Whether the template is rigged (its clips pose it); otherwise random
+    /// poses are smooth deformations.
+    #[wasm_bindgen(getter, js_name = hasRig)]
+    pub fn has_rig(&self) -> bool {
+        self.template.rig.is_some()
     }
 
     /// Welded vertex count.
     #[wasm_bindgen(getter, js_name = vertexCount)]
     pub fn vertex_count(&self) -> usize {
-        self.topo.rest.len()
+        self.template.topology.rest.len()
     }
 
     /// Triangles over welded vertices (3 indices each).
     #[wasm_bindgen(getter)]
     pub fn triangles(&self) -> Vec<u32> {
-        self.topo
+        self.template
+            .topology
             .triangles
             .iter()
             .flat_map(|t| t.map(|i| i as u32))
@@ -61,19 +86,30 @@ impl MeshLab {
     /// The animation clips' names.
     #[wasm_bindgen(getter, js_name = clipNames)]
     pub fn clip_names(&self) -> Vec<String> {
-        self.rig.animations.iter().map(|a| a.name.clone()).collect()
+        self.template
+            .rig
+            .iter()
+            .flat_map(|r| &r.animations)
+            .map(|a| a.name.clone())
+            .collect()
     }
 
     /// The clips' durations in seconds.
     #[wasm_bindgen(getter, js_name = clipDurations)]
     pub fn clip_durations(&self) -> Vec<f32> {
-        self.rig.animations.iter().map(|a| a.duration).collect()
+        self.template
+            .rig
+            .iter()
+            .flat_map(|r| &r.animations)
+            .map(|a| a.duration)
+            .collect()
     }
 
     /// Welded vertex index of each latent vertex.
     #[wasm_bindgen(getter, js_name = latentVertices)]
     pub fn latent_vertices(&self) -> Vec<u32> {
-        self.topo
+        self.template
+            .topology
             .latent_vertices()
             .into_iter()
             .map(|v| v as u32)
@@ -84,11 +120,13 @@ impl MeshLab {
     /// sampler chose it).
     #[wasm_bindgen(getter, js_name = latentNames)]
     pub fn latent_names(&self) -> Vec<String> {
-        self.topo
+        self.template
+            .topology
             .latent_vertices()
             .iter()
             .map(|v| {
-                self.topo
+                self.template
+                    .topology
                     .seeds
                     .iter()
                     .find(|s| s.1 == *v)
@@ -100,7 +138,8 @@ impl MeshLab {
     /// Per welded vertex, the latent vertex nearest by graph distance.
     #[wasm_bindgen(getter, js_name = latentRegions)]
     pub fn latent_regions(&self) -> Vec<u32> {
-        self.topo
+        self.template
+            .topology
             .latent_regions()
             .into_iter()
             .map(|v| v as u32)
@@ -116,27 +155,26 @@ impl MeshLab {
     /// The rest pose.
     #[wasm_bindgen(js_name = restPose)]
     pub fn rest_pose(&self) -> Vec<f32> {
-        flat3(&self.topo.rest)
+        flat3(&self.template.topology.rest)
     }
 
     /// Clip `clip` at `time` seconds (clamped to the clip).
     #[wasm_bindgen(js_name = clipPose)]
     pub fn clip_pose(&self, clip: usize, time: f32) -> Result<Vec<f32>, JsError> {
-        let p = self.rig.animation_pose(clip, time).map_err(js_err)?;
-        Ok(flat3(&self.topo.weld_pose(&p).map_err(js_err)?))
+        Ok(flat3(&self.template.clip_pose(clip, time).map_err(js_err)?))
     }
 
     /// A random pose like the training set's: a random clip frame with every
-    /// joint turned up to `maxDegrees` (30 in training).
+    /// joint turned up to `maxDegrees` (30 in training), or for a template
+    /// without a rig a random smooth deformation (`deeprep mesh deform`'s).
     #[wasm_bindgen(js_name = randomPose)]
     pub fn random_pose(&self, seed: u32, max_degrees: f32) -> Result<Vec<f32>, JsError> {
-        let mut rng = crate::rng::Rng::new(seed as u64);
-        let (local, _, _) = self
-            .rig
-            .jittered_locals(&mut rng, max_degrees.to_radians())
-            .map_err(js_err)?;
-        let p = self.rig.pose(&local).map_err(js_err)?;
-        Ok(flat3(&self.topo.weld_pose(&p).map_err(js_err)?))
+        Ok(flat3(
+            &self
+                .template
+                .random_pose(seed as u64, max_degrees)
+                .map_err(js_err)?,
+        ))
     }
 
     /// Latent codes (latent vertices × channels) of a welded pose.

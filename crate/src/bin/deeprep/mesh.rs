@@ -100,35 +100,19 @@ fn robot(path: &str) -> Result<(deeprep::mesh::Rig, deeprep::mesh::Topology), St
     Ok((rig, topo))
 }
 
-/// The topology of any mesh file: an OBJ, or a glTF (the bundled robot's
-/// own settings and latent seeds when it has the robot's nodes, otherwise
-/// `Params::for_mesh` with no seeds). Returns the file's vertex count too.
+/// The topology of any mesh file (`mesh::Template`: an OBJ, or a glTF with
+/// the robot's own settings and latent seeds when it has the robot's
+/// nodes). Returns the file's vertex count too.
 fn any_topology(path: &str) -> Result<(usize, deeprep::mesh::Topology), String> {
-    use deeprep::mesh::{Params, Topology, ROBOT_SEED_NODES};
     let bytes = std::fs::read(path).map_err(|e| format!("{path}: {e}"))?;
     let at = |e: deeprep::Error| format!("{path}: {e}");
-    let (positions, triangles) = if path.to_ascii_lowercase().ends_with(".obj") {
+    let t = if path.to_ascii_lowercase().ends_with(".obj") {
         let text = String::from_utf8(bytes).map_err(|e| format!("{path}: {e}"))?;
-        let m = deeprep::mesh::obj::parse(&text).map_err(at)?;
-        (m.positions, m.triangles)
+        deeprep::mesh::Template::from_obj(&text).map_err(at)?
     } else {
-        let rig = deeprep::mesh::Rig::from_glb(&bytes).map_err(at)?;
-        if ROBOT_SEED_NODES
-            .iter()
-            .all(|n| rig.node_names.iter().any(|m| m == n))
-        {
-            return Ok((rig.vertex_count(), Topology::robot(&rig).map_err(at)?));
-        }
-        let tris = rig
-            .triangles
-            .iter()
-            .map(|t| t.map(|i| i as usize))
-            .collect();
-        (rig.rest_pose().map_err(at)?, tris)
+        deeprep::mesh::Template::from_glb(&bytes).map_err(at)?
     };
-    let t = Topology::from_mesh(&positions, &triangles, &Params::for_mesh(&positions), &[])
-        .map_err(at)?;
-    Ok((positions.len(), t))
+    Ok((t.source_vertices, t.topology))
 }
 
 fn mesh_topology(path: &str, out: &str) -> Result<(), String> {
