@@ -329,6 +329,37 @@ fn hostile_inputs_reject_and_the_instance_keeps_working() {
         .unwrap();
     let (p, j) = (r.positions(), tpl.joint_names().len());
     assert!((p[60 * 3 * j] - 50.0).abs() < 1e-3 && (p[60 * 3 * j + 2] - 40.0).abs() < 1e-3);
+    // a 2-D key (every joint's x and y, and the root) between two whole
+    // poses: met in x and y after post-processing (Sec. 5.4.2)
+    let mut stand = row.clone();
+    stand[1] = 56.0;
+    let mut bent = stand.clone();
+    for c in [10, 14, 20] {
+        bent[c] = 30.0;
+    }
+    let fk = tpl.pose_fk(&bent).unwrap();
+    let xy: Vec<[f32; 2]> = fk.chunks(3).map(|p| [p[0], p[1]]).collect();
+    let req = serde_json::json!({"frames": 121, "keys": [
+        {"frame": 0, "channels": stand},
+        {"frame": 60, "xy": xy, "root": [fk[0], fk[1], fk[2]]},
+        {"frame": 120, "channels": stand},
+    ]});
+    let r = m.synthesize_request(&req.to_string()).unwrap();
+    let p = r.positions();
+    let worst = (0..j)
+        .map(|k| {
+            let q = &p[(60 * j + k) * 3..];
+            (q[0] - xy[k][0]).hypot(q[1] - xy[k][1])
+        })
+        .fold(0.0f32, f32::max);
+    assert!(worst < 0.05, "a joint misses its keyed x/y by {worst}");
+    // a 1,500-frame gap runs hierarchically (Sec. 5.4.3) and says so
+    let req = serde_json::json!({"frames": 1501, "keys": [
+        {"frame": 0, "channels": stand}, {"frame": 1500, "channels": stand},
+    ]});
+    let r = m.synthesize_request(&req.to_string()).unwrap();
+    assert_eq!(r.frames(), 1501);
+    assert!(!r.critical_frames().is_empty());
     assert!(m.rc_angles(&row, 0).is_err(), "the root is not an RC joint");
     assert!(m.set_rc_angles(&row, 5, &[f64::NAN, 0.0, 0.0]).is_err());
     // hair photo sizes whose product wraps on 32-bit

@@ -338,3 +338,18 @@ test('sketch page: a 2-D key sketched in the front view (Sec. 5.4.2) is met in x
   assert.deepEqual(errors, []);
   await page.close();
 });
+
+test('sketch page: two DNA seeds overlaid, with the distance between them (Sec. 5.3.7)', async () => {
+  const page = await browser.context.newPage();
+  const errors = watchErrors(page);
+  await page.goto(`${server.url}/web/index.html?webgl2`);
+  await page.waitForSelector('body[data-ready="1"]', { timeout: 120_000 });
+  await page.click('#compare-seeds');
+  await page.waitForSelector('body[data-compared="2"]', { timeout: 120_000 });
+  const g = await page.evaluate(() => ({ frames: window.deeprepState.ghost.frames, d: window.deeprepState.ghost.meanDistance }));
+  assert.equal(g.frames, 300);
+  assert.ok(Number.isFinite(g.d) && g.d >= 0);
+  assert.match(await page.textContent('#seed-note'), /seed 2 overlaid .* mean joint distance to seed 1's motion [0-9.]+ units/);
+  assert.deepEqual(errors, []);
+  await page.close();
+});

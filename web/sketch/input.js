@@ -7,7 +7,7 @@ import { pushHistory, redo, undo } from './history.js';
 import { exportBvh, importBvh } from './io.js';
 import { makeXyKey, onAngleInput, refreshJointEditor, solveDraggedPose } from './joints.js';
 import { subtree } from './skeleton.js';
-import { synthesize } from './synth.js';
+import { compareSeeds, synthesize } from './synth.js';
 import { addKey, deleteKey, keyAt, refreshTimeline, setFrame, setLength, togglePlay } from './timeline.js';
 import { currentPose, draw, keyPositions, nearestKey } from './view.js';
 
@@ -94,6 +94,7 @@ export function wireInput() {
   $('undo').addEventListener('click', undo);
   $('redo').addEventListener('click', redo);
   $('synth').addEventListener('click', synthesize);
+  $('compare-seeds').addEventListener('click', compareSeeds);
   $('variation').addEventListener('input', () => { $('variation-value').textContent = Number($('variation').value).toFixed(2); });
   $('length').addEventListener('change', () => setLength(Number($('length').value)));
   $('export').addEventListener('click', exportBvh);

@@ -14,6 +14,7 @@ export const state = {
   frame: 0,
   playing: false,
   result: null,        // { positions, frames, bvh, method, times }
+  ghost: null,         // the same keys with the next seed: { positions, frames, seed, meanDistance }
   selected: -1,        // joint index
   undo: [], redo: [],
   client: null,

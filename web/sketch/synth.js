@@ -11,10 +11,9 @@ import { draw } from './view.js';
 const chunk = (flat, n) => Array.from({ length: flat.length / n }, (_, i) => flat.slice(i * n, (i + 1) * n));
 
 /** DNA poses as one flat channel array: the selected library poses, or seeded ones. */
-export function dnaChannels() {
+export function dnaChannels(seed = Number($('seed').value)) {
   const selected = [...$('dna').selectedOptions].map((o) => state.library[Number(o.value)].channels);
   if (selected.length) return selected.flat();
-  const seed = Number($('seed').value);
   if (state.dnaClip) {
     const c = state.skeleton.channels, m = state.dnaClip.motion;
     return Array.from(dnaFramesOfClip(state.skeleton.clip, m, state.length, seed)).flatMap((i) => Array.from(m.subarray(i * c, (i + 1) * c)));
@@ -24,6 +23,42 @@ export function dnaChannels() {
 }
 
 const METHOD_NAMES = { slerp: 'SLERP+LERP interpolation baseline', residual: 'supervised residual network' };
+
+/** The page's request for `keys` with `dna` (flat channels), in the form the worker takes. */
+function request(keys, length, method, dna) {
+  const common = { frames: length, post: $('post').checked, footLock: $('footlock').checked, method, variation: Number($('variation').value) };
+  const asRequest = (k) => (k.xy ? { frame: k.frame, xy: k.xy, root: k.root }
+    : k.root ? { frame: k.frame, root: k.root } : { frame: k.frame, channels: k.channels });
+  return keys.some((k) => k.root || k.xy)
+    // keys of every kind in the request form (motion::keys), DNA as rows
+    ? { ...common, keys: keys.map(asRequest), dna: chunk(dna, state.skeleton.channels) }
+    : { ...common, keyFrames: keys.map((k) => k.frame), keyChannels: keys.flatMap((k) => k.channels), dna };
+}
+
+/**
+ * Motion DNA's variety (Sec. 5.3.7) on the page: the same keys synthesized
+ * with the next seed, overlaid on the current result (drawn like a key,
+ * following the frame), and the mean joint distance between the two.
+ */
+export async function compareSeeds() {
+  if (!state.result || state.result.method !== 'model') { setStatus('synthesize with the Generative Tweening model first', true); return; }
+  const seed = Number($('seed').value) + 1;
+  try {
+    const keys = state.keys.filter((k) => k.frame < state.result.frames);
+    const r = await state.client.synthesize(request(keys, state.result.frames, 'model', dnaChannels(seed)));
+    const a = state.result.positions, b = r.positions;
+    let d = 0;
+    for (let i = 0; i < a.length; i += 3) d += Math.hypot(a[i] - b[i], a[i + 1] - b[i + 1], a[i + 2] - b[i + 2]);
+    const mean = d / (a.length / 3);
+    state.ghost = { positions: r.positions, frames: r.frames, seed, meanDistance: mean };
+    $('seed-note').textContent = `seed ${seed} overlaid (pink): mean joint distance to seed ${seed - 1}'s motion ${mean.toFixed(2)} units`
+      + (mean < 1 ? ' — the bundled generator barely uses its DNA (README: Motion DNA measured)' : '');
+    document.body.dataset.compared = String(seed);
+    draw();
+  } catch (e) {
+    setStatus(`the second seed failed: ${e.message}`, true);
+  }
+}
 
 /** Synthesizes the keys at the length in #length with the page's options. */
 export async function synthesize() {
@@ -42,15 +77,10 @@ export async function synthesize() {
   $('progress').value = 0;
   try {
     const t0 = performance.now();
-    const dna = dnaChannels();
-    const common = { frames: length, post: $('post').checked, footLock: $('footlock').checked, method, variation: Number($('variation').value) };
-    const asRequest = (k) => (k.xy ? { frame: k.frame, xy: k.xy, root: k.root }
-      : k.root ? { frame: k.frame, root: k.root } : { frame: k.frame, channels: k.channels });
-    const r = partial
-      // keys of every kind in the request form (motion::keys), DNA as rows
-      ? await state.client.synthesize({ ...common, keys: keys.map(asRequest), dna: chunk(dna, state.skeleton.channels) })
-      : await state.client.synthesize({ ...common, keyFrames: keys.map((k) => k.frame), keyChannels: keys.flatMap((k) => k.channels), dna });
+    const r = await state.client.synthesize(request(keys, length, method, dnaChannels()));
     state.result = { positions: r.positions, frames: r.frames, bvh: r.bvh, method, times: r.times };
+    state.ghost = null;
+    $('seed-note').textContent = '';
     $('method-badge').textContent = METHOD_NAMES[method] || 'Generative Tweening model';
     $('method-badge').classList.toggle('baseline', method === 'slerp');
     const ms = performance.now() - t0;

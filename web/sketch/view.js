@@ -143,9 +143,11 @@ export function draw() {
   $('frame-label').textContent = `${state.frame} / ${state.length}`;
   if (!state.skeleton) return;
   const poseKeys = state.keys.filter((k) => k.channels || k.positions);
+  const J = state.skeleton.names.length, g = state.ghost;
+  const ghost = g && state.frame < g.frames ? [g.positions.subarray(state.frame * J * 3, (state.frame + 1) * J * 3)] : [];
   state.view.draw({
     pose: currentPose(),
-    keys: poseKeys.map(keyPositions),
+    keys: [...poseKeys.map(keyPositions), ...ghost],
     keyFrames: poseKeys.map((k) => k.frame),
     trajectory: trajectory(),
     selected: state.selected,
