@@ -134,12 +134,12 @@ test('sketch page: 3 keys, 512 frames, drawn, exported, undoable', async () => {
   assert.deepEqual(await page.evaluate(() => window.deeprepState.keys.find((k) => k.frame === 0).channels), before);
   await page.click('#redo');
 
-  // A 700-frame gap runs hierarchically (critical keys first), and the page says so.
-  await page.evaluate(() => { window.deeprepState.keys = [window.deeprepState.keys[0], { ...window.deeprepState.keys[1], frame: 700 }]; });
-  await page.fill('#length', '800');
+  // A 1,500-frame gap runs hierarchically (critical keys first), and the page says so.
+  await page.evaluate(() => { window.deeprepState.keys = [window.deeprepState.keys[0], { ...window.deeprepState.keys[1], frame: 1500 }]; });
+  await page.fill('#length', '1600');
   await page.click('#synth');
-  await page.waitForSelector('body[data-synthesized="800"]', { timeout: 120_000 });
-  assert.match(await page.textContent('#timing'), /hierarchical.*critical keys/);
+  await page.waitForSelector('body[data-synthesized="1600"]', { timeout: 120_000 });
+  assert.match(await page.textContent('#timing'), /hierarchical.*critical keys made first at frames 300, 600, 900, 1200/);
   // A failed synthesis keeps the keys: a gap of more than 3,000 frames.
   await page.evaluate(() => { window.deeprepState.keys = [window.deeprepState.keys[0], { ...window.deeprepState.keys[1], frame: 3100 }]; });
   await page.fill('#length', '3200');
