@@ -15,6 +15,8 @@ bash scripts/build-wasm.sh >/dev/null
 node tests/web/bench_page.mjs
 # tract against onnxruntime-web on every bundled model, side by side in one page
 node tests/web/bench_ort_page.mjs
+# where tract spends its time: every node of each model's plan timed, per operator
+cargo run --release --example profile_models
 cargo bench --bench mesh
 .venv/bin/python train/bench_mesh_ort.py
 node tests/web/bench_mesh_page.mjs

@@ -22,6 +22,17 @@ use tract_onnx::prelude::*;
 
 type Plan = TypedSimplePlan;
 
+/// One node's time in [`Model::profile`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct NodeTime {
+    /// The node's name in the optimized plan.
+    pub node: String,
+    /// Its operator (tract's name for it, e.g. `Conv`, `EinSum`, `Gather`).
+    pub op: String,
+    /// Milliseconds.
+    pub ms: f64,
+}
+
 /// A loaded ONNX model.
 pub struct Model {
     typed: TypedModel,
@@ -192,6 +203,38 @@ impl Model {
                 })
             })
             .collect()
+    }
+
+    /// One run on `inputs` with every node timed by `clock` (milliseconds),
+    /// in plan order: tract's own plan, evaluated node by node through
+    /// `run_plan_with_eval` (what tract's profiler does), so the times add up
+    /// to about one [`Model::run`].
+    pub fn profile(&self, inputs: &[TensorF32], clock: &dyn Fn() -> f64) -> Result<Vec<NodeTime>> {
+        let key: Vec<Vec<usize>> = inputs.iter().map(|t| t.shape.clone()).collect();
+        let plan = self.plan_for(&key)?;
+        let tv: TVec<TValue> = inputs
+            .iter()
+            .map(|t| {
+                Tensor::from_shape(&t.shape, &t.data)
+                    .map(|t| t.into_tvalue())
+                    .map_err(model_err)
+            })
+            .collect::<Result<_>>()?;
+        let mut state = tract_onnx::tract_core::plan::SimpleState::new(&plan).map_err(model_err)?;
+        let mut times = Vec::new();
+        state
+            .run_plan_with_eval(tv, |ctx, op_state, node, input| {
+                let t0 = clock();
+                let r = tract_onnx::tract_core::plan::eval(ctx, op_state, node, input);
+                times.push(NodeTime {
+                    node: node.name.clone(),
+                    op: node.op().name().to_string(),
+                    ms: clock() - t0,
+                });
+                r
+            })
+            .map_err(model_err)?;
+        Ok(times)
     }
 
     /// Checks the request's shapes against the inputs' (ranks, fixed
