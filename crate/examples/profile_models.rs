@@ -159,8 +159,7 @@ fn main() {
         ));
     }
     println!(
-        "{{\"profile\": \"tract {}, native, one thread, per operator (mean of {runs} runs)\", \"rows\": [\n{}\n]}}",
-        "0.23.9",
+        "{{\"profile\": \"tract 0.23.9, native, one thread, per operator (mean of {runs} runs)\", \"rows\": [\n{}\n]}}",
         rows.join(",\n")
     );
 }
