@@ -8,6 +8,8 @@ cd "$ROOT"
 rm -rf pkg
 wasm-pack build crate --mode force --no-opt --target web --out-dir ../pkg --out-name deeprep --release -- "${WASM_CARGO_FLAGS[@]:2}"
 cp web/client.js pkg/client.js
+# the worker protocol client.js is built on (shared with the demo pages)
+mkdir -p pkg/lib && cp web/lib/workers.js pkg/lib/workers.js
 cp web/three.js pkg/three.js
 sed "s#'./pkg-core/deeprep.js'#'./core/deeprep.js'#" web/worker.js > pkg/worker.js
 # The worker's package without the GPU code (a smaller download: the in-betweening
@@ -173,7 +175,7 @@ const fs = require("fs");
 const p = JSON.parse(fs.readFileSync("pkg/package.json", "utf8"));
 p.name = "deeprep";
 p.type = "module";
-p.files = [...new Set([...(p.files || []), "core", "client.js", "client.d.ts", "three.js", "three.d.ts", "worker.js", "models", "README.md", "LICENSE-MIT", "LICENSE-APACHE"])];
+p.files = [...new Set([...(p.files || []), "core", "lib", "client.js", "client.d.ts", "three.js", "three.d.ts", "worker.js", "models", "README.md", "LICENSE-MIT", "LICENSE-APACHE"])];
 p.peerDependencies = { three: ">=0.150.0" };
 p.peerDependenciesMeta = { three: { optional: true } };
 p.license = "MIT OR Apache-2.0";

@@ -22,6 +22,8 @@
 //
 // Every call takes an optional { signal } (an AbortSignal) as its last argument.
 
+import { WorkerChannel } from './lib/workers.js';
+
 /** An error from deeprep, with a machine-readable `code`. */
 export class DeeprepError extends Error {
   constructor(code, message) {
@@ -38,14 +40,24 @@ export class DeeprepClient {
     const page = globalThis.document?.baseURI ?? globalThis.location?.href;
     c.modelBase = modelBase ? new URL(String(modelBase), page).href : undefined;
     c.models = models;
-    c.workerUrl = workerUrl;
     c.onProgress = onProgress;
-    c.pending = new Map();
-    c.nextId = 1;
-    c.restarts = 0;
-    const info = await c.start();
+    // The worker is written inline, so bundlers (Vite, webpack 5,
+    // esbuild-based tools) see it and bundle it with the wasm it imports;
+    // `workerUrl` overrides. The protocol, trap recovery and aborts are
+    // web/lib/workers.js's, shared with the demo pages.
+    c.channel = new WorkerChannel(
+      () => (workerUrl ? new Worker(workerUrl, { type: 'module' }) : new Worker(new URL('./worker.js', import.meta.url), { type: 'module' })),
+      { onProgress: (m) => c.onProgress(m), error: (code, message) => new DeeprepError(code, message) },
+    );
+    let info;
+    try {
+      info = await c.channel.request({ type: 'init', modelBase: c.modelBase, models });
+    } catch (e) {
+      c.channel.terminate();
+      throw e; // E_WORKER when the worker could not start
+    }
     if (!info.hasModel) {
-      c.worker.terminate();
+      c.channel.terminate();
       throw new DeeprepError('E_MODEL_LOAD', `the in-betweening models could not be loaded: ${info.modelError}`);
     }
     c.skeletonBvh = info.skeletonBvh;
@@ -57,63 +69,10 @@ export class DeeprepClient {
     return c;
   }
 
-  /** Starts a worker and loads the models in it; resolves with its 'ready' message. */
-  start() {
-    // Written inline, so bundlers (Vite, webpack 5, esbuild-based tools) see
-    // the worker and bundle it with the wasm it imports. `workerUrl` overrides.
-    const worker = this.workerUrl
-      ? new Worker(this.workerUrl, { type: 'module' })
-      : new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
-    this.worker = worker;
-    this.ready = new Promise((resolve, reject) => {
-      worker.onerror = (e) => reject(new DeeprepError('E_WORKER', `worker failed to start: ${e.message || e.type}`));
-      worker.onmessage = (e) => {
-        const m = e.data;
-        if (m.type === 'ready') { resolve(m); return; }
-        if (m.type === 'progress') { this.onProgress(m); return; }
-        const p = this.pending.get(m.id);
-        if (m.type === 'error' && m.trapped) this.restart(m.id, 'E_WASM_TRAP', `the worker trapped during another call: ${m.message}`);
-        if (!p) return;
-        this.pending.delete(m.id);
-        if (m.type === 'error') p.reject(new DeeprepError(m.code || 'E_BAD_INPUT', m.message)); else p.resolve(m);
-      };
-    });
-    worker.postMessage({ type: 'init', modelBase: this.modelBase, models: this.models });
-    return this.ready;
-  }
+  /** How many times the worker was replaced (after a trap or an abort). */
+  get restarts() { return this.channel.restarts; }
 
-  /** Replaces the worker (after a trap, or to abort a call: wasm cannot be
-   * interrupted): calls queued on the old one, except `keep`, fail with
-   * `code`, and a fresh worker serves the calls that follow. */
-  restart(keep, code, message) {
-    this.worker.terminate();
-    this.restarts++;
-    for (const [id, p] of [...this.pending]) {
-      if (id === keep) continue;
-      this.pending.delete(id);
-      p.reject(new DeeprepError(code, message));
-    }
-    this.start().catch(() => {});
-  }
-
-  async request(msg, transfer = [], { signal } = {}) {
-    if (signal?.aborted) throw new DeeprepError('E_ABORTED', 'aborted before it started');
-    await this.ready;
-    if (signal?.aborted) throw new DeeprepError('E_ABORTED', 'aborted before it started');
-    const id = this.nextId++;
-    return new Promise((resolve, reject) => {
-      const onAbort = () => {
-        if (!this.pending.has(id)) return;
-        this.pending.delete(id);
-        reject(new DeeprepError('E_ABORTED', 'aborted'));
-        this.restart(id, 'E_ABORTED', 'aborted with another call (the worker was replaced)');
-      };
-      const done = (f) => (v) => { signal?.removeEventListener('abort', onAbort); f(v); };
-      this.pending.set(id, { resolve: done(resolve), reject: done(reject) });
-      signal?.addEventListener('abort', onAbort, { once: true });
-      this.worker.postMessage({ ...msg, id }, transfer);
-    });
-  }
+  request(msg, transfer = [], { signal } = {}) { return this.channel.request(msg, transfer, { signal }); }
 
   /** In-betweening (or SLERP+LERP with method 'slerp'); `opts.signal` aborts it. */
   synthesize({ signal, ...opts }) { return this.request({ type: 'synthesize', ...opts }, [], { signal }); }
@@ -137,9 +96,5 @@ export class DeeprepClient {
   rcAngles(channels, joint) { return this.request({ type: 'rcAngles', channels, joint }).then((m) => m.angles); }
   setRcAngles(channels, joint, angles) { return this.request({ type: 'setRcAngles', channels, joint, angles }).then((m) => m.channels); }
   /** Stops the worker; pending calls reject with E_TERMINATED. */
-  terminate() {
-    this.worker.terminate();
-    for (const p of this.pending.values()) p.reject(new DeeprepError('E_TERMINATED', 'the client was terminated'));
-    this.pending.clear();
-  }
+  terminate() { this.channel.terminate(); }
 }

@@ -3,7 +3,7 @@
 //   -> {type: 'init', modelBase, models}   (modelBase: an absolute URL of a folder with the
 //      model files; models: their bytes {generator, path, manifest}; neither: the copies
 //      shipped beside this file in the npm package, models/)
-//   <- {type: 'ready', skeletonBvh, hasModel, defaultVariation, modelError}
+//   <- {type: 'result', id, skeletonBvh, hasModel, defaultVariation, modelError} (the protocol of web/lib/workers.js)
 //   -> {type: 'synthesize', id, keyFrames, keyChannels, frames, post, dna, method, variation, footLock}
 //      or {type: 'synthesize', id, keys, frames, ...}: keys of any kind (pose, root, xy; motion::keys)
 //   <- {type: 'progress', id, stage, fraction}  ...  {type: 'result', id, ...} | {type: 'error', id, message}
@@ -78,7 +78,7 @@ async function fetchText(url) {
 }
 
 async function handleInit(msg) {
-  postMessage({ type: 'progress', id: 0, stage: 'compiling wasm', fraction: 0 });
+  postMessage({ type: 'progress', id: msg.id, stage: 'compiling wasm', fraction: 0 });
   await init();
   urls = modelUrls(msg.modelBase);
   try {
@@ -91,11 +91,11 @@ async function handleInit(msg) {
       const report = (k) => (n, total) => {
         got[k] = [n, total];
         const all = got.g[1] + got.p[1];
-        postMessage({ type: 'progress', id: 0, stage: 'downloading models', fraction: all ? (got.g[0] + got.p[0]) / all : 0 });
+        postMessage({ type: 'progress', id: msg.id, stage: 'downloading models', fraction: all ? (got.g[0] + got.p[0]) / all : 0 });
       };
       [g, p, m] = await Promise.all([fetchBytes(urls.generator, report('g')), fetchBytes(urls.path, report('p')), fetchText(urls.manifest)]);
     }
-    postMessage({ type: 'progress', id: 0, stage: 'loading models', fraction: 1 });
+    postMessage({ type: 'progress', id: msg.id, stage: 'loading models', fraction: 1 });
     model = new Inbetweener(g, p, m);
     // The supervised residual network (issue 19) is optional and loads on
     // first use; its small manifest says here whether it is there.
@@ -108,7 +108,7 @@ async function handleInit(msg) {
       let isDefault = false;
       try { isDefault = JSON.parse(residualManifest)?.default_for_whole_pose_keys === true; } catch { /* no manifest */ }
       if (isDefault) {
-        postMessage({ type: 'progress', id: 0, stage: 'downloading models', fraction: 1 });
+        postMessage({ type: 'progress', id: msg.id, stage: 'downloading models', fraction: 1 });
         model.setResidual(await fetchBytes(urls.residual), residualManifest);
       }
     }
@@ -116,9 +116,9 @@ async function handleInit(msg) {
     // does not wait for tract to optimize one (runtime::Model::prepare_any_shape),
     // and one small synthesis of the rest pose, so that the user's first is
     // not the one that brings the wasm code up to speed (it took 2x a warm one).
-    postMessage({ type: 'progress', id: 0, stage: 'preparing models', fraction: 1 });
+    postMessage({ type: 'progress', id: msg.id, stage: 'preparing models', fraction: 1 });
     model.prepareAnyLength();
-    postMessage({ type: 'progress', id: 0, stage: 'warming up', fraction: 1 });
+    postMessage({ type: 'progress', id: msg.id, stage: 'warming up', fraction: 1 });
     const skel = BvhClip.parse(model.skeletonBvh);
     const rest = new Float32Array(2 * skel.channelCount);
     model.synthesize(new Uint32Array([0, 63]), rest, 64, true, new Float32Array(0), undefined, false).free();
@@ -129,11 +129,11 @@ async function handleInit(msg) {
     skeletonNames = skel.jointNames;
     const skeleton = { names: skeletonNames, parents: Array.from(skel.parents), offsets: Array.from(skel.offsets) };
     skel.free();
-    postMessage({ type: 'ready', skeletonBvh: model.skeletonBvh, skeleton, hasModel: true,
+    postMessage({ type: 'result', id: msg.id, skeletonBvh: model.skeletonBvh, skeleton, hasModel: true,
                   hasResidual: model.hasResidual || residualManifest !== null,
                   defaultVariation: model.defaultVariation });
   } catch (e) {
-    postMessage({ type: 'ready', skeletonBvh: null, hasModel: false, modelError: String(e.message || e) });
+    postMessage({ type: 'result', id: msg.id, skeletonBvh: null, hasModel: false, modelError: String(e.message || e) });
   }
 }
 
