@@ -36,7 +36,8 @@ import tempfile
 import numpy as np
 
 from data_pipeline import DATA
-from eval_tween import ROOT, cli, global_fk, read_bvh, rep_frames
+from deeprep_train.bvh import global_fk, read_bvh
+from eval_tween import ROOT, cli, rep_frames
 from table54 import random_keys, validation_clips
 
 

@@ -48,7 +48,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from bvh_io import read_hierarchy  # noqa: E402
+from deeprep_train.bvh import axis_rot, fk_from_local, global_fk, local_fk, mat_to_quat, read_bvh, resample  # noqa: E402,F401
 from data_pipeline import DATA, TRUE_FPS, VALIDATION, take_of  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -158,91 +158,6 @@ def cli():
         if os.path.exists(os.path.join(ROOT, p)):
             return os.path.join(ROOT, p)
     sys.exit("build the CLI first: cargo build --release --bin deeprep")
-
-
-def resample(src, dst, step):
-    text = open(src).read()
-    head, motion = text.split("MOTION", 1)
-    lines = [x for x in motion.strip().splitlines()[2:] if x.strip()]
-    lines = lines[::step]
-    with open(dst, "w") as f:
-        f.write(head + f"MOTION\nFrames: {len(lines)}\nFrame Time: {1 / 60:.8f}\n" + "\n".join(lines) + "\n")
-    return len(lines)
-
-
-def read_bvh(path):
-    """Names, parents (-1 for the root), offsets, channel lists and the motion matrix."""
-    text = open(path).read()
-    head, motion = text.split("MOTION", 1)
-    names, parents, offsets, chans = read_hierarchy(head)
-    parents = [-1 if p is None else p for p in parents]
-    rows = [x for x in motion.strip().splitlines()[2:] if x.strip()]
-    data = np.array([[float(v) for v in r.split()] for r in rows], dtype=np.float64)
-    return names, parents, np.array(offsets), chans, data
-
-
-def axis_rot(axis, a):
-    c, s = np.cos(a), np.sin(a)
-    o, z = np.ones_like(a), np.zeros_like(a)
-    if axis == "X":
-        m = [[o, z, z], [z, c, -s], [z, s, c]]
-    elif axis == "Y":
-        m = [[c, z, s], [z, o, z], [-s, z, c]]
-    else:
-        m = [[c, -s, z], [s, c, z], [z, z, o]]
-    return np.stack([np.stack(r, -1) for r in m], -2)
-
-
-def local_fk(bvh):
-    """Per-joint translations [F, J, 3] (offset plus position channels) and
-    local rotation matrices [F, J, 3, 3]."""
-    names, _, offsets, chans, data = bvh
-    F, J = len(data), len(names)
-    trans = np.broadcast_to(offsets, (F, J, 3)).copy()
-    rot = np.zeros((F, J, 3, 3))
-    col = 0
-    for j in range(J):
-        r = np.broadcast_to(np.eye(3), (F, 3, 3)).copy()
-        for c in chans[j]:
-            v = data[:, col]
-            col += 1
-            if c.endswith("rotation"):
-                r = r @ axis_rot(c[0], np.radians(v))
-            else:
-                trans[:, j, "XYZ".index(c[0])] += v
-        rot[:, j] = r
-    return trans, rot
-
-
-def fk_from_local(bvh, trans, loc):
-    """Global positions [F, J, 3] and rotations [F, J, 3, 3] from local_fk's
-    translations and local rotations on bvh's skeleton."""
-    parents = bvh[1]
-    F, J = loc.shape[:2]
-    rot, pos = np.zeros_like(loc), np.zeros((F, J, 3))
-    for j in range(J):
-        p = parents[j]
-        if p < 0:
-            rot[:, j], pos[:, j] = loc[:, j], trans[:, j]
-        else:
-            pos[:, j] = pos[:, p] + np.einsum("fij,fj->fi", rot[:, p], trans[:, j])
-            rot[:, j] = rot[:, p] @ loc[:, j]
-    return pos, rot
-
-
-def global_fk(bvh):
-    """Global positions [F, J, 3] and rotation matrices [F, J, 3, 3]."""
-    return fk_from_local(bvh, *local_fk(bvh))
-
-
-def mat_to_quat(m):
-    """Unit quaternions [w, x, y, z] (w >= 0) of rotation matrices [..., 3, 3]."""
-    w = np.sqrt(np.clip(1 + m[..., 0, 0] + m[..., 1, 1] + m[..., 2, 2], 0, None)) / 2
-    x = np.copysign(np.sqrt(np.clip(1 + m[..., 0, 0] - m[..., 1, 1] - m[..., 2, 2], 0, None)) / 2, m[..., 2, 1] - m[..., 1, 2])
-    y = np.copysign(np.sqrt(np.clip(1 - m[..., 0, 0] + m[..., 1, 1] - m[..., 2, 2], 0, None)) / 2, m[..., 0, 2] - m[..., 2, 0])
-    z = np.copysign(np.sqrt(np.clip(1 - m[..., 0, 0] - m[..., 1, 1] + m[..., 2, 2], 0, None)) / 2, m[..., 1, 0] - m[..., 0, 1])
-    q = np.stack([w, x, y, z], -1)
-    return q / np.linalg.norm(q, axis=-1, keepdims=True)
 
 
 def accel(pos):

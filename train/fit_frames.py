@@ -24,7 +24,7 @@ import numpy as np
 
 from data_pipeline import DATA, TRUE_FPS, VALIDATION, take_of  # noqa: E402
 from deeprep_train.rcfk import TABLE_PATH, local_frame  # noqa: E402
-from eval_tween import axis_rot, read_bvh  # noqa: E402
+from deeprep_train.bvh import axis_rot, read_bvh  # noqa: E402
 
 
 def local_rotation(bvh, joint):

@@ -10,7 +10,7 @@ import os
 
 import torch
 
-from bvh_io import read_hierarchy  # noqa: E402
+from deeprep_train.bvh import read_hierarchy  # noqa: E402
 from deeprep_train.rcfk import RCFK  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))

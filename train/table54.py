@@ -20,7 +20,8 @@ import tempfile
 import numpy as np
 
 from data_pipeline import DATA, TRUE_FPS, VALIDATION, take_of
-from eval_tween import ROOT, cli, resample
+from deeprep_train.bvh import resample
+from eval_tween import ROOT, cli
 
 PAIR = re.compile(r"root ([0-9.]+), joints ([0-9.]+)")
 

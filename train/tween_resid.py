@@ -38,7 +38,8 @@ import torch.nn.functional as F
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 from data_pipeline import DATA, TRUE_FPS, VALIDATION, floor_segments, runs, take_of, MIN_SEGMENT  # noqa: E402
-from eval_tween import read_bvh, local_fk, fk_from_local, mat_to_quat, npss, l2p_stats  # noqa: E402
+from deeprep_train.bvh import fk_from_local, local_fk, mat_to_quat, read_bvh  # noqa: E402
+from eval_tween import l2p_stats, npss  # noqa: E402
 from deeprep_train.rotation import matrix_to_6d, quat_to_matrix, sixd_to_matrix  # noqa: E402
 
 ROOT = os.path.dirname(HERE)

@@ -4,6 +4,8 @@ use deeprep::skeleton::{fk, Bvh, Channel};
 use deeprep::Error;
 use std::path::PathBuf;
 
+mod common;
+
 /// A small skeleton the project makes itself: a 6-channel root, two
 /// branches, mixed channel orders, a joint with position channels, and End
 /// Sites. Values are deterministic functions of (frame, channel).
@@ -315,5 +317,36 @@ fn local_tracks_match_the_channels() {
             }
             assert_eq!(tr, want);
         }
+    }
+}
+
+/// The FK fixture the training code checks its own FK against
+/// (tests/parity/test_fk.py): this file's mixed-order skeleton, 5 frames.
+/// `DEEPREP_WRITE_FIXTURES=1` rewrites it; otherwise this checks it.
+#[test]
+fn fk_fixture_shared_with_the_training_code() {
+    let path = common::root().join("tests/fixtures/fk_native.json");
+    let text = fixture(5);
+    let b = Bvh::parse(&text).unwrap();
+    let positions = fk::positions(&b, 0, 5).unwrap();
+    if std::env::var("DEEPREP_WRITE_FIXTURES").is_ok() {
+        let doc = serde_json::json!({
+            "what": "global joint positions (frames x joints x 3) of `bvh` by the crate's FK (tests/native/bvh.rs)",
+            "bvh": text, "frames": 5, "joints": b.joints.len(), "positions": positions,
+        });
+        std::fs::write(&path, serde_json::to_string_pretty(&doc).unwrap()).unwrap();
+    }
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    assert_eq!(doc["bvh"].as_str().unwrap(), text, "the fixture's clip");
+    let want: Vec<f64> = doc["positions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    assert_eq!(want.len(), positions.len());
+    for (a, b) in positions.iter().zip(&want) {
+        assert!((*a as f64 - b).abs() < 1e-4, "{a} vs {b}");
     }
 }
