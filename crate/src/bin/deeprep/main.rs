@@ -56,7 +56,7 @@ const USAGE: &str = "usage:
       sampling levels (s = 2, r = 2) with padded index/mask tables, latent seed vertices;
       any topology (pieces, non-manifold edges, isolated vertices); the robot's glTF keeps
       its latent seeds (hands, feet, head, torso)
-  deeprep mesh poses ROBOT.glb --out PREFIX [--fps N] [--random N] [--seed S] [--subdivide K]
+  deeprep mesh poses RIGGED.glb --out PREFIX [--fps N] [--random N] [--seed S] [--subdivide K]
       every animation clip sampled at N fps (default 30) plus N random poses (default 0;
       each joint turned up to 30 degrees from a random clip frame), welded:
       PREFIX.f32 (poses x vertices x 3, little-endian) and PREFIX.json (clip per pose);

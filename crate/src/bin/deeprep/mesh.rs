@@ -15,7 +15,7 @@ pub fn topology(rest: &[&str]) -> Result<(), CliError> {
     }
 }
 
-/// `deeprep mesh poses ROBOT.glb --out PREFIX [...]`.
+/// `deeprep mesh poses RIGGED.glb --out PREFIX [...]`.
 pub fn poses(rest: &[&str]) -> Result<(), CliError> {
     match rest {
         [file, options @ ..] => Ok(mesh_poses(file, options)?),
@@ -93,11 +93,15 @@ fn write_set(set: &deeprep::mesh::files::PoseSet, out: &str) -> Result<(), Strin
     std::fs::write(format!("{out}.json"), set.meta_json()).map_err(|e| format!("{out}.json: {e}"))
 }
 
-fn robot(path: &str) -> Result<(deeprep::mesh::Rig, deeprep::mesh::Topology), String> {
+/// A rigged glTF's rig and welded topology (`mesh::Template`: the robot's
+/// own settings and seeds for the robot, `Params::for_mesh` otherwise).
+fn rigged(path: &str) -> Result<(deeprep::mesh::Rig, deeprep::mesh::Topology), String> {
     let bytes = std::fs::read(path).map_err(|e| format!("{path}: {e}"))?;
-    let rig = deeprep::mesh::Rig::from_glb(&bytes).map_err(|e| format!("{path}: {e}"))?;
-    let topo = deeprep::mesh::Topology::robot(&rig).map_err(|e| format!("{path}: {e}"))?;
-    Ok((rig, topo))
+    let t = deeprep::mesh::Template::from_glb(&bytes).map_err(|e| format!("{path}: {e}"))?;
+    let rig = t.rig.ok_or_else(|| {
+        format!("{path}: no animation clips to pose (deeprep mesh deform makes poses of any mesh)")
+    })?;
+    Ok((rig, t.topology))
 }
 
 /// The topology of any mesh file (`mesh::Template`: an OBJ, or a glTF with
@@ -178,7 +182,7 @@ fn mesh_poses(path: &str, rest: &[&str]) -> Result<(), String> {
             "--random is at most {MAX_CLIP_POSES}, got {random}"
         ));
     }
-    let (rig, t) = robot(path)?;
+    let (rig, t) = rigged(path)?;
     // --subdivide K: the welded mesh subdivided K times (midpoints), each
     // pose with it; the subdivided rest mesh is written as PREFIX.obj
     let (mut positions, mut triangles, mut steps) =
