@@ -16,8 +16,10 @@ Any other template (issue 25): a topology file and two pose files of it
     target/release/deeprep mesh deform T/tet.obj --out T/tet.train --count 2000 --seed 1
     target/release/deeprep mesh deform T/tet.obj --out T/tet.test --count 200 --seed 2
     train/.venv/bin/python train/train_mesh.py --topology T/tet.topology.json --train T/tet.train --test T/tet.test --name tet
-Test poses are the test file's held-out clips and its random or deformed
-poses; a pose file that lists "interior" vertices (a solid) gets their
+A user's own posed meshes of a template (an OBJ sequence) become a pose file
+with `deeprep mesh pack TEMPLATE.obj POSE1.obj ... --out PREFIX`.
+Test poses are the test file's held-out clips and its random, deformed or
+packed poses; a pose file that lists "interior" vertices (a solid) gets their
 error reported apart from the surface's.
 
 Usage: train/.venv/bin/python train/train_mesh.py --minutes 10 [--residual vd|avg|none] [--threads 1] [--m M]
@@ -81,7 +83,7 @@ def main():
     train = load_poses(args.train, lambda l: l["clip"] not in TEST_CLIPS)
     test = np.concatenate([
         load_poses(args.test, lambda l: l["clip"] in TEST_CLIPS),
-        load_poses(args.test, lambda l: l["clip"] in ("random", "deform")),
+        load_poses(args.test, lambda l: l["clip"] in ("random", "deform", "pose")),
     ])
     interior = json.load(open(args.test + ".json")).get("interior", [])
     rest = np.array(topo["rest"], dtype=np.float32)

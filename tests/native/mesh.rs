@@ -947,6 +947,56 @@ fn the_cli_makes_shapes_and_deformations_for_training() {
         3,
         "1 x 3 x 1 inner grid vertices"
     );
+    // a user's own poses of the template (an OBJ sequence) packed as a pose set
+    let tet = std::fs::read_to_string(p("tet.obj")).unwrap();
+    let moved = |dx: f32| {
+        tet.lines()
+            .map(|l| match l.strip_prefix("v ") {
+                Some(v) => {
+                    let c: Vec<f32> = v.split_whitespace().map(|x| x.parse().unwrap()).collect();
+                    format!("v {} {} {}", c[0] + dx, c[1], c[2])
+                }
+                None => l.to_string(),
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    std::fs::write(p("a.obj"), moved(0.5)).unwrap();
+    std::fs::write(p("b.obj"), moved(-0.25)).unwrap();
+    let (ok, err) = run(&[
+        "mesh",
+        "pack",
+        &p("tet.obj"),
+        &p("a.obj"),
+        &p("b.obj"),
+        "--out",
+        &p("mine"),
+    ]);
+    assert!(ok, "{err}");
+    let mine = deeprep::mesh::files::PoseSet::read(
+        &std::fs::read(p("mine.f32")).unwrap(),
+        &std::fs::read_to_string(p("mine.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(mine.len(), 2);
+    let rest = deeprep::mesh::Template::from_obj(&tet)
+        .unwrap()
+        .topology
+        .rest;
+    assert!(
+        (mine.data[0] - (rest[0][0] + 0.5)).abs() < 1e-6
+            && (mine.data[3 * rest.len()] - (rest[0][0] - 0.25)).abs() < 1e-6
+    );
+    std::fs::write(p("c.obj"), tet.replace("f 1 ", "f 2 ")).unwrap();
+    let (ok, err) = run(&[
+        "mesh",
+        "pack",
+        &p("tet.obj"),
+        &p("c.obj"),
+        "--out",
+        &p("bad"),
+    ]);
+    assert!(!ok && err.contains("faces"), "{err}");
     let (ok, err) = run(&["mesh", "shape", "cube", "--out", &p("x.obj")]);
     assert!(!ok && err.contains("mesh shape"), "{err}");
     let (ok, err) = run(&[

@@ -66,6 +66,9 @@ const USAGE: &str = "usage:
       a mesh for the thesis' other experiments: tet, a tetrahedralized block of N x 2N x N
       cubes (every tetrahedron's faces; Fig. 2.8); tree, three crossing quad planes sharing
       their axis, a non-manifold surface (Fig. 2.9); default N 6
+  deeprep mesh pack TEMPLATE.obj POSE.obj... --out PREFIX
+      a user's posed meshes (OBJ files with the template's vertices and faces, in order) as a
+      pose set for train_mesh.py (each labelled with its index and file)
   deeprep mesh deform MESH.obj --out PREFIX [--count N] [--seed S]
       N smooth random deformations (a bend, a twist, three bumps) of MESH's welded
       vertices, as mesh poses writes them; interior vertices of a solid are listed
@@ -115,6 +118,10 @@ const COMMANDS: &[Command] = &[
     Command {
         words: &["mesh", "shape"],
         run: mesh::shape,
+    },
+    Command {
+        words: &["mesh", "pack"],
+        run: mesh::pack,
     },
     Command {
         words: &["mesh", "deform"],

@@ -87,6 +87,53 @@ pub fn deform(rest: &[&str]) -> Result<(), CliError> {
     Ok(())
 }
 
+/// `deeprep mesh pack TEMPLATE.obj POSE.obj... --out PREFIX`: a user's own
+/// posed meshes (an OBJ sequence with the template's vertices in the
+/// template's order) as a pose set, welded as the template is.
+pub fn pack(rest: &[&str]) -> Result<(), CliError> {
+    use deeprep::mesh::files::PoseSet;
+    let Some(at) = rest.iter().position(|a| *a == "--out") else {
+        return Err(CliError::Usage);
+    };
+    let (files, out) = (&rest[..at], rest.get(at + 1).ok_or(CliError::Usage)?);
+    if files.len() < 2 || rest.len() != at + 2 {
+        return Err(CliError::Usage);
+    }
+    let read = |p: &str| -> Result<deeprep::mesh::obj::TriMesh, String> {
+        let text = std::fs::read_to_string(p).map_err(|e| format!("{p}: {e}"))?;
+        deeprep::mesh::obj::parse(&text).map_err(|e| format!("{p}: {e}"))
+    };
+    let template = files[0];
+    let t = deeprep::mesh::Template::from_obj(
+        &std::fs::read_to_string(template).map_err(|e| format!("{template}: {e}"))?,
+    )
+    .map_err(|e| format!("{template}: {e}"))?;
+    let mut set = PoseSet::new(t.topology.rest.len());
+    for (i, p) in files[1..].iter().enumerate() {
+        let m = read(p)?;
+        if m.triangles != read(template)?.triangles {
+            return Err(format!("{p}: its faces are not {template}'s (a pose must keep the template's vertices and faces)").into());
+        }
+        let welded = t
+            .topology
+            .weld_pose(&m.positions)
+            .map_err(|e| format!("{p}: {e}"))?;
+        set.push(
+            &welded,
+            serde_json::json!({"clip": "pose", "index": i, "file": p}),
+        )
+        .map_err(|e| format!("{p}: {e}"))?;
+    }
+    set.extra.insert("source".into(), template.into());
+    write_set(&set, out)?;
+    eprintln!(
+        "wrote {out}.f32 and {out}.json: {} poses x {} vertices",
+        set.len(),
+        set.vertices
+    );
+    Ok(())
+}
+
 fn write_set(set: &deeprep::mesh::files::PoseSet, out: &str) -> Result<(), String> {
     std::fs::write(format!("{out}.f32"), set.data_bytes())
         .map_err(|e| format!("{out}.f32: {e}"))?;
