@@ -182,16 +182,7 @@ impl Model {
         for (i, t) in inputs.iter().enumerate() {
             crate::error::check_finite(&format!("model input {i}"), &t.data)?;
         }
-        let key: Vec<Vec<usize>> = inputs.iter().map(|t| t.shape.clone()).collect();
-        let plan = self.plan_for(&key)?;
-        let tv: TVec<TValue> = inputs
-            .iter()
-            .map(|t| {
-                Tensor::from_shape(&t.shape, &t.data)
-                    .map(|t| t.into_tvalue())
-                    .map_err(model_err)
-            })
-            .collect::<Result<_>>()?;
+        let (plan, tv) = self.plan_and_values(inputs)?;
         let out = plan.run(tv).map_err(model_err)?;
         out.iter()
             .map(|v| {
@@ -205,11 +196,11 @@ impl Model {
             .collect()
     }
 
-    /// One run on `inputs` with every node timed by `clock` (milliseconds),
-    /// in plan order: tract's own plan, evaluated node by node through
-    /// `run_plan_with_eval` (what tract's profiler does), so the times add up
-    /// to about one [`Model::run`].
-    pub fn profile(&self, inputs: &[TensorF32], clock: &dyn Fn() -> f64) -> Result<Vec<NodeTime>> {
+    /// The plan for `inputs`' shapes and the inputs as tract values.
+    fn plan_and_values(
+        &self,
+        inputs: &[TensorF32],
+    ) -> Result<(std::sync::Arc<Plan>, TVec<TValue>)> {
         let key: Vec<Vec<usize>> = inputs.iter().map(|t| t.shape.clone()).collect();
         let plan = self.plan_for(&key)?;
         let tv: TVec<TValue> = inputs
@@ -220,6 +211,15 @@ impl Model {
                     .map_err(model_err)
             })
             .collect::<Result<_>>()?;
+        Ok((plan, tv))
+    }
+
+    /// One run on `inputs` with every node timed by `clock` (milliseconds),
+    /// in plan order: tract's own plan, evaluated node by node through
+    /// `run_plan_with_eval` (what tract's profiler does), so the times add up
+    /// to about one [`Model::run`].
+    pub fn profile(&self, inputs: &[TensorF32], clock: &dyn Fn() -> f64) -> Result<Vec<NodeTime>> {
+        let (plan, tv) = self.plan_and_values(inputs)?;
         let mut state = tract_onnx::tract_core::plan::SimpleState::new(&plan).map_err(model_err)?;
         let mut times = Vec::new();
         state
