@@ -265,6 +265,14 @@ fn the_residual_model_keeps_keys_and_scales_by_variation() {
         b.motion = ch;
         keys.push(Keyframe::from_bvh(&b, 0, *f).unwrap());
     }
+    // when its manifest makes it the default for whole-pose keys, it serves
+    // them without DNA and with gaps the generator reaches directly; longer
+    // gaps go to the generator's hierarchical synthesis
+    let mut far = keys.clone();
+    far[2].frame = 10 + 1 + deeprep::motion::MAX_GAP + 70;
+    assert!(!m.serves(&far, false), "a gap over MAX_GAP");
+    assert!(!m.serves(&keys, true), "DNA asked for");
+    assert_eq!(m.serves(&keys, false), m.default_for_whole_pose_keys);
     let frames = 280;
     let out = m.synthesize(&keys, frames, 1.0).unwrap();
     let plain = slerp_lerp(&keys, frames).unwrap();

@@ -166,8 +166,9 @@ impl ResidualModel {
 
     /// Whether the `model` method should run this network for `keys`: the
     /// manifest makes it the default for whole-pose keys, every key is a
-    /// whole pose with rotations, and no Motion DNA is asked for (the
-    /// network has no DNA input; the generator does).
+    /// whole pose with rotations, no Motion DNA is asked for (the network
+    /// has no DNA input; the generator does), and no two keys are more than
+    /// [`MAX_GAP`](super::MAX_GAP) frames apart.
     pub fn serves(&self, keys: &[Keyframe], dna_given: bool) -> bool {
         self.default_for_whole_pose_keys
             && !dna_given
@@ -175,6 +176,9 @@ impl ResidualModel {
             && keys
                 .iter()
                 .all(|k| k.rotations.is_some() && k.is_whole_pose())
+            // gaps the generator reaches directly: it was trained on gaps up to
+            // 300 frames; longer ones go to the generator's hierarchical synthesis
+            && keys.windows(2).all(|w| w[1].frame.abs_diff(w[0].frame) <= super::MAX_GAP)
     }
 
     /// In-betweens whole-pose keys over `frames` frames. Frames before the
