@@ -33,7 +33,11 @@ def wins(m, metric, ref="slerp"):
     return [g for g in gaps if f"{m}@{g}" in ev and ev[f"{m}@{g}"][metric] < ev[f"{ref}@{g}"][metric]]
 
 
-npss_wins, l2p_wins = wins("model", "NPSS"), wins("model", "L2P")
+# the generator's own rows: `generator` when evaluated (the `model` method
+# runs the residual network for whole-pose keys when its manifest says so)
+G = "generator" if "generator@30" in ev else "model"
+npss_wins, l2p_wins = wins(G, "NPSS"), wins(G, "L2P")
+resid_default = bool(resid and resid.get("default_for_whole_pose_keys"))
 
 variation = gen.get("variation", 1.0)
 
@@ -44,7 +48,11 @@ def both_ends(metric):
 
 
 ablation = ""
-if "variation-1@30" in ev and variation != 1.0:
+if resid_default:
+    ablation = (f"The generator's default variation is {variation:g} (its share of the departure from SLERP+LERP, "
+                "chosen on training takes by `train/pick_variation.py`, docs/inbetween_variation_train.json); its "
+                "rows above are at that variation.\n")
+elif "variation-1@30" in ev and variation != 1.0:
     ablation = (f"The default keeps {variation:g} of the networks' departure from SLERP+LERP "
                 f"(`variation`, chosen on training takes by `train/pick_variation.py`, "
                 f"docs/inbetween_variation_train.json). The networks as trained (`--variation 1`) beat "
@@ -64,7 +72,7 @@ if resid and "residual@30" in ev:
     far = [g for g in (120, 300) if abs(1 - ev[f"{R}@{g}"]["speed_ratio"]) > 0.3]
     speed_ok = "met" if not far else "not met at " + ", ".join(map(str, far))
     res_row = (f"| `tween_residual.onnx` | the same frames, mirrored, {resid['training']['steps']:,} steps × 8 windows of 360-480 frames "
-               f"with key gaps of 15-300 frames, one CPU thread, L1 losses, a joint-speed loss, contact-aware foot velocity and a loss in L2P's units (`train/tween_resid.py`, runs A-F in train/README.md; issue 19's supervised stage, no adversarial loss) "
+               f"with key gaps of 15-300 frames, one CPU thread, L1 losses, a joint-speed loss, contact-aware foot velocity and a loss in L2P's units and one on short-time spectra (`train/tween_resid.py`, runs A-G in train/README.md; issue 19's supervised stage, no adversarial loss) "
                f"| as trained (`--method residual --variation 1`) on validation: beats SLERP+LERP on L2P at gaps {rw('L2P')}, on NPSS at {rw('NPSS')}, "
                f"on L2Q at {rw('L2Q')}; joint speed {fmt(R, 'speed_ratio')} of the truth's at gaps 30/60/120/300 "
                f"(SLERP+LERP {fmt('slerp', 'speed_ratio')}) |\n")
@@ -80,6 +88,13 @@ if resid and "residual@30" in ev:
                 f"{fmt('slerp', 'speed_ratio')}); issue 19 asks for within 30% of the truth's at 120 and 300: {speed_ok}. "
                 f"Its default variation is {resid.get('variation', 1.0):g} (chosen on training takes). It is trained with "
                 f"supervision only (no adversarial stage, no Motion DNA); {default_note}.\n")
+MODEL_TEXT = ("\"model\" is the default pipeline (`deeprep inbetween` without `--method`): for whole-pose keys "
+              "without Motion DNA and gaps up to 600 frames it runs the supervised residual network at its default "
+              f"variation ({resid.get('variation', 1.0):g}); otherwise (partial keys, DNA, longer gaps) the generator "
+              f"pipeline at the generator's default variation ({variation:g}). Post-processing makes the keys exact."
+              if resid_default else
+              f"\"model\" is the default pipeline at the model's default variation ({variation:g}): post-processing "
+              "makes the keys exact.")
 models = f"""<!-- models -->
 | file | trained on | quality |
 |---|---|---|
@@ -95,7 +110,9 @@ for metric, label in [("L2P", "L2P"), ("L2Q", "L2Q"), ("NPSS", "NPSS"), ("foot_s
                       ("speed_ratio", "joint speed relative to the root, share of the truth's")]:
     for m, name in [("zerovel", "zero-velocity"), ("slerp", "SLERP+LERP"), ("model", "model"),
                     ("model-lock", "model with foot locking (`--foot-lock`)"),
-                    ("variation-1", "networks as trained (`--variation 1`, no foot locking)"),
+                    ("variation-1", "`--variation 1`, no foot locking (the residual network when it is the default)" if resid_default
+                     else "networks as trained (`--variation 1`, no foot locking)"),
+                    ("generator", "the Generative Tweening generator (`--method generator`, its default variation, no foot locking)"),
                     ("residual", "supervised residual on SLERP+LERP (`--method residual`, at its default variation)"),
                     ("residual-1", "the residual network as trained (`--method residual --variation 1`)")]:
         if f"{m}@30" not in ev or metric not in ev[f"{m}@30"]:
@@ -107,8 +124,8 @@ kb = " | ".join(f"{ev[f'{KM}@{g}']['key_error_before_post'][0]:.1f} / {ev[f'{KM}
 ka = " | ".join(f"{ev[f'{KM}@{g}']['key_error_after_post'][0]:.1f} / {ev[f'{KM}@{g}']['key_error_after_post'][1]:.1f}" for g in gaps)
 results = f"""<!-- results -->
 Measured {datetime.date.today()} with `train/.venv/bin/python train/eval_tween.py` on the 6 validation
-takes (indian/15, martial/10, salsa 04/19 and 12/27; never trained on), model
-`tween_generator.onnx` at {gen['training']['steps']:,} steps. Every interval of the given gap between
+takes (indian/15, martial/10, salsa 04/19 and 12/27; never trained on), models
+`tween_generator.onnx` at {gen['training']['steps']:,} steps and `tween_residual.onnx` at {resid['training']['steps'] if resid else 0:,}. Every interval of the given gap between
 whole-pose keys is one window ({ev['model@30']['windows']} windows at gap 30, {ev['model@300']['windows']} at gap 300); lower is better.
 
 | metric | method | gap 30 | gap 60 | gap 120 | gap 300 |
@@ -117,19 +134,18 @@ whole-pose keys is one window ({ev['model@30']['windows']} windows at gap 30, {e
 | key error before post-processing (root / joints, units) | {KM} | {kb} |
 | key error after post-processing | {KM} | {ka} |
 
-"model" is the default pipeline at the model's default variation
-({variation:g}): post-processing makes the keys exact. "model with foot
+{MODEL_TEXT} "model with foot
 locking" adds `--foot-lock` (`crate/src/motion/feet.rs`), off by default
-since session 9: at this variation it raised L2P, NPSS and foot skating on
+since session 9: at the generator's default variation it raised L2P, NPSS and foot skating on
 training takes. Variation 0 is SLERP+LERP exactly. The default variation and
 foot locking's settings were chosen on training takes (`eval_tween.py --split train`),
 not on these.
 {ablation}{res_text}Ground-truth foot skating by the same measure: {ev['ground_truth_foot_skate']:.3f} units/frame; ground-truth joint acceleration {ev['ground_truth_acceleration']:.3f} units/frame².
 NPSS sums over frequencies, so it grows with the window: compare methods
-within a gap. Verdict against the target (beat SLERP+LERP on NPSS at every
-gap and on L2P at 30 and 60): {"met" if goal else "not met"}; the closest cells are at gap 30 (L2P
-{ev['model@30']['L2P']:.3f} against {ev['slerp@30']['L2P']:.3f}, NPSS {ev['model@30']['NPSS']:.3f} against
-{ev['slerp@30']['NPSS']:.3f}), margins that a retrained model or other takes could reverse. The model was
+within a gap. The generator's verdict against its target (beat SLERP+LERP on NPSS at every
+gap and on L2P at 30 and 60): {"met" if goal else "not met"}; its closest cells are at gap 30 (L2P
+{ev[f'{G}@30']['L2P']:.3f} against {ev['slerp@30']['L2P']:.3f}, NPSS {ev[f'{G}@30']['NPSS']:.3f} against
+{ev['slerp@30']['NPSS']:.3f}), margins that a retrained model or other takes could reverse. The generator was
 trained for about 8 hours in all (runs 4-7, 9, 11, 16, 22 and 24, each continuing the last; run 16 added U-Net skips to the decoder; run 22 continued run 16 at 45,500 steps with the angle-linear base and weight averaging; run 24 continued run 22 with a loss on global joint rotations; each was picked on training takes by `train/pick_checkpoint.py`, run 24 at {gen['training']['steps']:,} steps) on one or two CPU threads (the thesis: 560k iterations on
 a GPU). RC-FK with Table D.1's ranges cannot express the data's wrist twist
 and finger rest poses (1.24 units per joint on average since the elbow hinge
