@@ -64,7 +64,10 @@ test('sketch page: 3 keys, 512 frames, drawn, exported, undoable', async () => {
 
   // The variation slider starts at the model's default (its manifest's), and
   // variation 0 (plain interpolation) gives a different motion through the same keys.
-  const manifest = JSON.parse(fs.readFileSync(path.join(ROOT, 'models/onnx/tween_generator.manifest.json'), 'utf8'));
+  // (the residual network's when its manifest makes it the model for whole-pose keys)
+  const residual = JSON.parse(fs.readFileSync(path.join(ROOT, 'models/onnx/tween_residual.manifest.json'), 'utf8'));
+  const manifest = residual.default_for_whole_pose_keys ? residual
+    : JSON.parse(fs.readFileSync(path.join(ROOT, 'models/onnx/tween_generator.manifest.json'), 'utf8'));
   const defaultVariation = manifest.variation ?? 1;
   assert.equal(Number(await page.$eval('#variation', (el) => el.value)), defaultVariation);
   assert.equal(await page.textContent('#variation-value'), defaultVariation.toFixed(2));
@@ -213,7 +216,7 @@ test('sketch page: seeded Motion DNA is drawn by the core, from an imported clip
   const errors = watchErrors(page);
   await page.goto(`${server.url}/web/index.html`);
   await page.waitForSelector('body[data-ready="1"]', { timeout: 120_000 });
-  const dna = (seed) => page.evaluate((s) => { document.getElementById('seed').value = String(s); return window.deeprepSketch.dnaChannels(); }, seed);
+  const dna = (seed) => page.evaluate((s) => { document.getElementById('seed').value = String(s); return window.deeprepSketch.dnaChannels(s, { fallbackToPool: true }); }, seed);
   await page.fill('#length', '900');
   await page.dispatchEvent('#length', 'change');
   // From the pose library: dna_count(900) = 5 poses, repeatable per seed.
@@ -226,10 +229,10 @@ test('sketch page: seeded Motion DNA is drawn by the core, from an imported clip
   const text = fs.readFileSync(await download.path(), 'utf8');
   await page.setInputFiles('#import', { name: 'mine.bvh', mimeType: 'text/plain', buffer: Buffer.from(text) });
   await page.waitForFunction(() => /seeded DNA is drawn from it/.test(document.getElementById('status').textContent), null, { timeout: 60_000 });
-  // a 120-frame output: the seed places a 120-frame window in the 300-frame
+  // a 40-frame output: the seed places a 40-frame window in the 300-frame
   // clip and its representative frame is the DNA (with an output as long as
   // the clip, every seed would see the whole clip, as in the CLI)
-  await page.fill('#length', '120');
+  await page.fill('#length', '40');
   await page.dispatchEvent('#length', 'change');
   const a = await dna(3), b = await dna(4);
   const rows = text.split('Frame Time:')[1].trim().split('\n').slice(1).map((l) => l.trim().split(/\s+/).map(Number));

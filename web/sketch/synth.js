@@ -10,15 +10,21 @@ import { draw } from './view.js';
 
 const chunk = (flat, n) => Array.from({ length: flat.length / n }, (_, i) => flat.slice(i * n, (i + 1) * n));
 
-/** DNA poses as one flat channel array: the selected library poses, or seeded ones. */
-export function dnaChannels(seed = Number($('seed').value)) {
+/**
+ * DNA poses as one flat channel array: the selected library poses, or
+ * seeded frames of an imported clip; with `fallbackToPool`, seeded library
+ * poses when there is neither. Without DNA, whole-pose keys go to the
+ * default network (the residual network when its manifest says so, which
+ * has no DNA input).
+ */
+export function dnaChannels(seed = Number($('seed').value), { fallbackToPool = false } = {}) {
   const selected = [...$('dna').selectedOptions].map((o) => state.library[Number(o.value)].channels);
   if (selected.length) return selected.flat();
   if (state.dnaClip) {
     const c = state.skeleton.channels, m = state.dnaClip.motion;
     return Array.from(dnaFramesOfClip(state.skeleton.clip, m, state.length, seed)).flatMap((i) => Array.from(m.subarray(i * c, (i + 1) * c)));
   }
-  if (!state.library.length) return [];
+  if (!fallbackToPool || !state.library.length) return [];
   return Array.from(dnaFramesOfPool(state.library.length, state.length, seed)).flatMap((i) => state.library[i].channels);
 }
 
@@ -37,7 +43,8 @@ function request(keys, length, method, dna) {
 
 /**
  * Motion DNA's variety (Sec. 5.3.7) on the page: the same keys synthesized
- * with the next seed, overlaid on the current result (drawn like a key,
+ * by the generator with the seed's DNA and with the next seed's (from the
+ * DNA source, or the pose library), the second overlaid (drawn like a key,
  * following the frame), and the mean joint distance between the two.
  */
 export async function compareSeeds() {
@@ -45,8 +52,9 @@ export async function compareSeeds() {
   const seed = Number($('seed').value) + 1;
   try {
     const keys = state.keys.filter((k) => k.frame < state.result.frames);
-    const r = await state.client.synthesize(request(keys, state.result.frames, 'model', dnaChannels(seed)));
-    const a = state.result.positions, b = r.positions;
+    const run = (s) => state.client.synthesize(request(keys, state.result.frames, 'model', dnaChannels(s, { fallbackToPool: true })));
+    const [first, r] = [await run(seed - 1), await run(seed)];
+    const a = first.positions, b = r.positions;
     let d = 0;
     for (let i = 0; i < a.length; i += 3) d += Math.hypot(a[i] - b[i], a[i + 1] - b[i + 1], a[i + 2] - b[i + 2]);
     const mean = d / (a.length / 3);
