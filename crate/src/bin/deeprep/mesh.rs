@@ -108,10 +108,11 @@ pub fn pack(rest: &[&str]) -> Result<(), CliError> {
         &std::fs::read_to_string(template).map_err(|e| format!("{template}: {e}"))?,
     )
     .map_err(|e| format!("{template}: {e}"))?;
+    let faces = read(template)?.triangles;
     let mut set = PoseSet::new(t.topology.rest.len());
     for (i, p) in files[1..].iter().enumerate() {
         let m = read(p)?;
-        if m.triangles != read(template)?.triangles {
+        if m.triangles != faces {
             return Err(format!("{p}: its faces are not {template}'s (a pose must keep the template's vertices and faces)").into());
         }
         let welded = t
