@@ -582,12 +582,7 @@ fn any_mesh_gets_a_topology() {
     use deeprep::mesh::{obj::parse, Params, Topology};
     let topo = |obj: &str| {
         let m = parse(obj).unwrap();
-        Topology::from_mesh(
-            &m.positions,
-            &m.triangles,
-            &Params::for_mesh(&m.positions),
-            &[],
-        )
+        Topology::of_mesh(&m.positions, &m.triangles)
     };
     let levels = |t: &Topology| -> Vec<usize> {
         std::iter::once(t.rest.len())
@@ -697,16 +692,10 @@ fn the_cli_writes_the_topology_of_an_obj_file() {
 #[test]
 fn training_files_round_trip_and_reject_hostile_contents() {
     use deeprep::mesh::files::{PoseSet, TopologyFile};
-    use deeprep::mesh::{obj::parse, Params, Topology};
+    use deeprep::mesh::{obj::parse, Topology};
     let obj = format!("{}{}", grid_obj(9, 9, 0.0, 0), grid_obj(5, 5, 20.0, 81));
     let m = parse(&obj).unwrap();
-    let t = Topology::from_mesh(
-        &m.positions,
-        &m.triangles,
-        &Params::for_mesh(&m.positions),
-        &[],
-    )
-    .unwrap();
+    let t = Topology::of_mesh(&m.positions, &m.triangles).unwrap();
     let f = TopologyFile::from_topology(&t, "two.obj", m.positions.len());
     let text = f.to_json().unwrap();
     let back = TopologyFile::parse(&text).unwrap();
@@ -807,7 +796,7 @@ fn training_files_round_trip_and_reject_hostile_contents() {
 #[test]
 fn generated_shapes_have_the_structure_their_experiments_need() {
     use deeprep::mesh::shapes::*;
-    use deeprep::mesh::{Params, Topology};
+    use deeprep::mesh::Topology;
     let edge_faces = |tris: &[[usize; 3]]| {
         let mut m: std::collections::HashMap<(usize, usize), usize> = Default::default();
         for t in tris {
@@ -827,13 +816,7 @@ fn generated_shapes_have_the_structure_their_experiments_need() {
         interior_vertices(tet.positions.len(), &tet.triangles),
         tet.interior
     );
-    let t = Topology::from_mesh(
-        &tet.positions,
-        &tet.triangles,
-        &Params::for_mesh(&tet.positions),
-        &[],
-    )
-    .unwrap();
+    let t = Topology::of_mesh(&tet.positions, &tet.triangles).unwrap();
     assert_eq!(t.rest.len(), tet.positions.len(), "nothing welded");
     assert!(t.added_edges.is_empty(), "one connected solid");
     // crossing planes: the axis edges belong to 2 x planes triangles (non-manifold)
@@ -842,13 +825,7 @@ fn generated_shapes_have_the_structure_their_experiments_need() {
     assert!(interior_vertices(tree.positions.len(), &tree.triangles).is_empty());
     let most = edge_faces(&tree.triangles).into_values().max().unwrap();
     assert_eq!(most, 6, "an axis edge in six triangles");
-    let t = Topology::from_mesh(
-        &tree.positions,
-        &tree.triangles,
-        &Params::for_mesh(&tree.positions),
-        &[],
-    )
-    .unwrap();
+    let t = Topology::of_mesh(&tree.positions, &tree.triangles).unwrap();
     assert!(t.levels.len() >= 2);
     // subdivision: V + E vertices, 4 F triangles; poses follow by midpoints
     let (p, tr, parents) = subdivide(&tet.positions, &tet.triangles[..8]).unwrap();

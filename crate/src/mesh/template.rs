@@ -3,7 +3,7 @@
 //! any OBJ or glTF (issue 25), so the CLI, the page and `MeshLab` take any
 //! topology the same way.
 
-use super::{shapes, Params, Rig, Topology, ROBOT_SEED_NODES};
+use super::{shapes, Rig, Topology, ROBOT_SEED_NODES};
 use crate::error::{Error, Result};
 use crate::rng::Rng;
 
@@ -24,12 +24,7 @@ impl Template {
     /// ([`Params::for_mesh`]), no latent seeds.
     pub fn from_obj(text: &str) -> Result<Template> {
         let m = super::obj::parse(text)?;
-        let topology = Topology::from_mesh(
-            &m.positions,
-            &m.triangles,
-            &Params::for_mesh(&m.positions),
-            &[],
-        )?;
+        let topology = Topology::of_mesh(&m.positions, &m.triangles)?;
         Ok(Template {
             rig: None,
             source_vertices: m.positions.len(),
@@ -55,7 +50,7 @@ impl Template {
                 .iter()
                 .map(|t| t.map(|i| i as usize))
                 .collect();
-            Topology::from_mesh(&rest, &tris, &Params::for_mesh(&rest), &[])?
+            Topology::of_mesh(&rest, &tris)?
         };
         Ok(Template {
             rig: (!rig.animations.is_empty()).then_some(rig),

@@ -152,6 +152,12 @@ impl Topology {
         Topology::from_mesh(&rest_all, &triangles, &params, &seeds)
     }
 
+    /// [`Topology::from_mesh`] with the levels chosen from the vertex count
+    /// ([`Params::for_mesh`]) and no latent seeds: any mesh's default.
+    pub fn of_mesh(positions: &[[f32; 3]], triangles: &[[usize; 3]]) -> Result<Topology> {
+        Topology::from_mesh(positions, triangles, &Params::for_mesh(positions), &[])
+    }
+
     /// The topology of any triangle mesh (Sec. 2.3: sampling depends on
     /// topology alone): several components, non-manifold edges and
     /// vertices, isolated vertices and degenerate triangles are all taken.

@@ -243,13 +243,8 @@ fn mesh_poses(path: &str, rest: &[&str]) -> Result<(), String> {
     }
     if subdiv > 0 {
         // the OBJ's own topology must keep this vertex order (no two vertices welded)
-        let check = deeprep::mesh::Topology::from_mesh(
-            &positions,
-            &triangles,
-            &deeprep::mesh::Params::for_mesh(&positions),
-            &[],
-        )
-        .map_err(|e| e.to_string())?;
+        let check =
+            deeprep::mesh::Topology::of_mesh(&positions, &triangles).map_err(|e| e.to_string())?;
         if check.weld_map.iter().enumerate().any(|(i, &w)| i != w) {
             return Err("--subdivide: the subdivided mesh welds some vertices together".into());
         }
