@@ -18,7 +18,7 @@ node tests/web/bench_ort_page.mjs
 # where tract spends its time: every node of each model's plan timed, per operator
 cargo run --release --example profile_models
 cargo bench --bench mesh
-.venv/bin/python train/bench_mesh_ort.py
+PYTHONPATH=train .venv/bin/python -m deeprep_train.mesh.bench_ort
 node tests/web/bench_mesh_page.mjs
 cargo bench --bench hair
 node tests/web/bench_hair_page.mjs

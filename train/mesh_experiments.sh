@@ -16,6 +16,7 @@ D=target/release/deeprep
 G=../shared/data/gltf/RobotExpressive.glb
 [ -f "$G" ] || { echo "SKIP: $G is absent"; exit 0; }
 PY=train/.venv/bin/python
+export PYTHONPATH="train${PYTHONPATH:+:$PYTHONPATH}"  # deeprep_train without installing it
 E=train/cache/mesh_exp
 M=train/cache/mesh
 mkdir -p "$E" "$M"
@@ -24,17 +25,17 @@ for s in tet tree; do
   $D mesh topology $E/$s.obj --out $E/$s.topology.json
   $D mesh deform $E/$s.obj --out $E/$s.train --count 2000 --seed 1
   $D mesh deform $E/$s.obj --out $E/$s.test --count 200 --seed 2
-  $PY train/train_mesh.py --topology $E/$s.topology.json --train $E/$s.train --test $E/$s.test --name $s --minutes "$MIN"
+  $PY -m deeprep_train.mesh.train --topology $E/$s.topology.json --train $E/$s.train --test $E/$s.test --name $s --minutes "$MIN"
 done
 $D mesh poses $G --out $E/hires.train --random 1500 --seed 1 --subdivide 2
 $D mesh poses $G --out $E/hires.test --random 150 --seed 2 --subdivide 2
 $D mesh topology $E/hires.train.obj --out $E/hires.topology.json
-$PY train/train_mesh.py --topology $E/hires.topology.json --train $E/hires.train --test $E/hires.test --name hires --minutes "$((MIN * 2))"
-# the robot's own data (as train_mesh.py's docstring makes it)
+$PY -m deeprep_train.mesh.train --topology $E/hires.topology.json --train $E/hires.train --test $E/hires.test --name hires --minutes "$((MIN * 2))"
+# the robot's own data (as mesh/train.py's docstring makes it)
 $D mesh topology $G --out $M/topology.json
 $D mesh poses $G --out $M/train --random 3000 --seed 1
 $D mesh poses $G --out $M/test --random 300 --seed 2 --fps 30
 for m in 1 4 16 default; do
-  if [ $m = default ]; then $PY train/train_mesh.py --steps "$STEPS" --name m_default
-  else $PY train/train_mesh.py --steps "$STEPS" --m $m --name m$m; fi
+  if [ $m = default ]; then $PY -m deeprep_train.mesh.train --steps "$STEPS" --name m_default
+  else $PY -m deeprep_train.mesh.train --steps "$STEPS" --m $m --name m$m; fi
 done

@@ -2,7 +2,7 @@
 //! mesh for each exported op form (JSON on stdout). The committed model
 //! (`models/onnx/mesh_{encoder,decoder}.onnx`, form "factored") always runs;
 //! `MESH_FORMS_DIR` may hold `mesh_{encoder,decoder}_{factored,matmul,einsum}.onnx`
-//! from `train/export_mesh.py --form F --suffix _F` for the comparison.
+//! from `train/deeprep_train/mesh/export.py --form F --suffix _F` for the comparison.
 //! The committed graphs run twice: as exported, and with their factored
 //! kernels multiplied out at load (`Model::from_onnx_bytes_folding_factors`,
 //! what `MeshCodec` does). `DEEPREP_BENCH_SMOKE=1` runs each graph once.

@@ -1,7 +1,7 @@
 //! Inverse kinematics from joint positions (thesis Sec. 4.4.3, Table 5.1).
 //!
-//! A small MLP, trained in `train/ik_test.py` and exported by
-//! `train/export_ik.py`, maps the joint positions of a pose (hip at the
+//! A small MLP, trained in `train/deeprep_train/ik/train.py` and exported by
+//! `train/deeprep_train/ik/export.py`, maps the joint positions of a pose (hip at the
 //! origin, world orientation) to one rotation per joint in the
 //! representation named by its manifest; this module runs it with tract and
 //! decodes the values into BVH joint rotations:

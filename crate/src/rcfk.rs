@@ -16,7 +16,7 @@
 //! perpendicular to z, except for bones that run along X (the arms), whose
 //! local y is world Y made perpendicular to z. The forearms take local y
 //! from the elbow's hinge axis, fitted to the CMU data by
-//! `train/fit_frames.py` (the table's `frame` field, see [`FrameRule`]):
+//! `train/deeprep_train/motion/fit_frames.py` (the table's `frame` field, see [`FrameRule`]):
 //! there the elbow is an exact hinge, so Table D.1's forearm ranges (no
 //! bending about x) hold to within 0.1° on average. The frames are
 //! right-handed.
@@ -137,7 +137,7 @@ pub enum FrameRule {
     /// Local x is world Z (forward) made perpendicular to z.
     WorldZ,
     /// Local y is the given axis made perpendicular to z (a hinge axis fitted
-    /// to the data, `train/fit_frames.py`); local x = y × z.
+    /// to the data, `train/deeprep_train/motion/fit_frames.py`); local x = y × z.
     AxisY([f64; 3]),
 }
 
@@ -454,7 +454,7 @@ impl RcSkeleton {
     /// The generator's raw space for a pose given by local rotations: root
     /// 6D, then per rotating joint `v = atanh(2(u − α)/(β − α) − 1)` with
     /// `|v| ≤ V_CLIP` (0 for zero-width ranges), `u` the clamped angles.
-    /// Mirrors `rc_to_raw` in train/deeprep_train/tween.py.
+    /// Mirrors `rc_to_raw` in train/deeprep_train/motion/nets.py.
     pub fn raw_from_rotations(&self, local: &[Mat3<f64>]) -> Vec<f32> {
         let mut out = Vec::with_capacity(self.output_dim());
         out.extend(matrix_to_6d(&local[0]).iter().map(|v| *v as f32));

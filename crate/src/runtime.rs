@@ -308,7 +308,7 @@ impl Model {
 /// `Cast(to = FLOAT)` whose input is a FLOAT16 initializer becomes a float32
 /// initializer named after the cast's output (and the half-precision copy
 /// is dropped when nothing else reads it). The bundled models store their
-/// weights this way (train/half_weights.py) to halve the download; any ONNX
+/// weights this way (train/deeprep_train/export/half_weights.py) to halve the download; any ONNX
 /// runtime runs them as they are, and after this pass the rest of the crate
 /// (tract, the factor folding, the hair heads' weight lookup) sees the
 /// float32 model the weights were rounded from.

@@ -993,8 +993,8 @@ fn the_cli_makes_shapes_and_deformations_for_training() {
 fn a_model_trained_on_another_template_runs_on_it_and_only_on_it() {
     use deeprep::mesh::{MeshCodec, Template};
     // tests/fixtures/mesh_tet: `deeprep mesh shape tet --size 3` and a small
-    // autoencoder trained 2 minutes on its deformations (train_mesh.py,
-    // export_mesh.py --out)
+    // autoencoder trained 2 minutes on its deformations (mesh/train.py,
+    // mesh/export.py --out)
     let dir = common::root().join("tests/fixtures/mesh_tet");
     let obj = std::fs::read_to_string(dir.join("tet.obj")).unwrap();
     let tet = Template::from_obj(&obj).unwrap();

@@ -495,7 +495,7 @@ fn interpolated_channels_are_linear_between_keys_and_held_outside() {
 
 #[test]
 fn dense_inputs_match_the_pytorch_training_code() {
-    // Written by train/make_dense_fixture.py from train/deeprep_train/tween.py.
+    // Written by train/deeprep_train/motion/make_dense_fixture.py from train/deeprep_train/motion/nets.py.
     use deeprep::motion::dense::{base_channels, dense_channels, interp_channels, Base};
     let p = root().join("tests/fixtures/dense_torch.json");
     let f: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap();

@@ -1,5 +1,5 @@
 //! The ONNX path: the tiny rotation network trained by
-//! train/tiny_rotation_mlp.py runs in tract and matches onnxruntime's saved
+//! train/deeprep_train/sanity/tiny_rotation_mlp.py runs in tract and matches onnxruntime's saved
 //! outputs (max abs diff <= 1e-5).
 
 use deeprep::rotation::{geodesic_distance, Mat3};

@@ -113,7 +113,7 @@ fn an_explicit_axis_frame_puts_y_on_that_axis() {
 }
 
 /// The elbows of the CMU data are hinges about the fitted axes of
-/// `table_d1.json` (`train/fit_frames.py`): the forearms leave Table D.1's
+/// `table_d1.json` (`train/deeprep_train/motion/fit_frames.py`): the forearms leave Table D.1's
 /// ranges by well under a degree on average, on a validation take that the
 /// fit never saw.
 #[test]
@@ -254,7 +254,7 @@ fn outputs_stay_in_range_and_bad_input_is_an_error() {
 
 #[test]
 fn rust_and_pytorch_rcfk_agree_to_1e_4() {
-    // Written by train/make_rcfk_fixture.py from the PyTorch layer
+    // Written by train/deeprep_train/motion/make_rcfk_fixture.py from the PyTorch layer
     // (train/deeprep_train/rcfk.py) on the thesis skeleton.
     let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../tests/fixtures/rcfk_torch.json");
     let f: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap();

@@ -2,7 +2,7 @@
 
 Ranges, orders and frame rules come from crate/data/table_d1.json, the same
 file the Rust crate embeds. A parity test (tests/native/rcfk.rs reading
-tests/fixtures/rcfk_torch.json, written by train/make_rcfk_fixture.py) checks
+tests/fixtures/rcfk_torch.json, written by train/deeprep_train/motion/make_rcfk_fixture.py) checks
 that both agree to 1e-4 in BVH units.
 """
 import json
@@ -24,7 +24,7 @@ def local_frame(d, rule="x") -> torch.Tensor:
     """M_lw (columns x, y, z) for a joint whose child bones have mean direction d.
 
     rule: "x" (default), "z", or {"y": [..]}: an explicit local y (a hinge axis
-    fitted to the data by train/fit_frames.py), with x = y cross z."""
+    fitted to the data by train/deeprep_train/motion/fit_frames.py), with x = y cross z."""
     d = torch.tensor(d, dtype=torch.float64)
     n = d.norm()
     if n < 1e-9:

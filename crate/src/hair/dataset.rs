@@ -1,4 +1,4 @@
-//! The procedural hair dataset `train/train_hair.py` trains on
+//! The procedural hair dataset `train/deeprep_train/hair/train.py` trains on
 //! (`deeprep hair dataset --out PREFIX`): styles of every class of Table
 //! 3.1, their mirror images and in-class blends (Sec. 3.2.2), each rendered
 //! from random views. Written as five files:

@@ -1,4 +1,4 @@
-//! The files the mesh training code reads (`train/train_mesh.py`), written
+//! The files the mesh training code reads (`train/deeprep_train/mesh/train.py`), written
 //! and read here so their layout is defined once and round-trip tested:
 //!
 //! - [`TopologyFile`]: a mesh's welded graph and sampling levels as JSON

@@ -1,5 +1,5 @@
 //! The dense keyframe input format (thesis Fig. 5.3), with a per-coordinate
-//! mask for partial keys. Mirrors `dense_input` in train/deeprep_train/tween.py.
+//! mask for partial keys. Mirrors `dense_input` in train/deeprep_train/motion/nets.py.
 
 use super::spline::KeySpline;
 use super::Keyframe;
@@ -127,7 +127,7 @@ fn per_channel<C: Fn(f64) -> f64>(
 /// Per channel, linear interpolation between the previous and the next row
 /// that gives the channel (held before the first and after the last; 0
 /// where no row gives it). Rows must be sorted by frame. Returns `[width,
-/// frames]`. Mirrors `interp_channels` in train/deeprep_train/tween.py.
+/// frames]`. Mirrors `interp_channels` in train/deeprep_train/motion/nets.py.
 pub fn interp_channels(
     rows: &[(usize, Vec<f32>, Vec<bool>)],
     width: usize,
@@ -152,7 +152,7 @@ pub fn interp_channels(
 /// (uniform Catmull-Rom when they are evenly spaced, C1 otherwise). Held
 /// before the first and after the last row; 0 where no row gives it. Rows
 /// must be sorted by frame. Returns `[width, frames]`. Mirrors
-/// `spline_channels` in train/deeprep_train/tween.py.
+/// `spline_channels` in train/deeprep_train/motion/nets.py.
 pub fn spline_channels(
     rows: &[(usize, Vec<f32>, Vec<bool>)],
     width: usize,
@@ -183,7 +183,7 @@ pub enum Base {
 
 /// The base the generator corrects: `rows` (whole-pose keys' raw RC-FK
 /// values, root 6D first) interpolated as `base` says. Returns `[width,
-/// frames]`. Mirrors `base_channels` in train/deeprep_train/tween.py.
+/// frames]`. Mirrors `base_channels` in train/deeprep_train/motion/nets.py.
 pub fn base_channels(
     rows: &[(usize, Vec<f32>, Vec<bool>)],
     width: usize,

@@ -4,7 +4,7 @@
 //! Training feeds each window's *representative frames*: the frames of
 //! largest joint-rotation change from their neighbours, at least
 //! [`MIN_SPACING`] frames apart, one per [`FRAMES_PER_DNA`] frames of the
-//! window (`train/train_tween.py`, `rep_frames`). [`pick_dna_frames`] does
+//! window (`train/deeprep_train/motion/train.py`, `rep_frames`). [`pick_dna_frames`] does
 //! the same on a window of the source clip chosen by a seed, so a seed gives
 //! a different but repeatable style, drawn the way training drew it.
 

@@ -37,7 +37,7 @@ pub struct FootLock {
 
 impl Default for FootLock {
     fn default() -> Self {
-        // Chosen on training takes (train/eval_tween.py with EVAL_SPLIT=train,
+        // Chosen on training takes (train/deeprep_train/motion/eval.py with EVAL_SPLIT=train,
         // gaps 30 and 120): foot skating 1.59/1.34 -> 1.32/0.83 units/frame
         // for L2P 2.434/6.147 -> 2.456/6.194. Stricter speed limits (0.8, 3)
         // caught fewer contacts; a higher floor band (6) cost more L2P.

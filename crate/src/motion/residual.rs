@@ -1,5 +1,5 @@
 //! A supervised residual on SLERP+LERP (issue 19, stage 1;
-//! `train/tween_resid.py`): a 1-D convolutional network reads SLERP+LERP of
+//! `train/deeprep_train/motion/residual.py`): a 1-D convolutional network reads SLERP+LERP of
 //! whole-pose keys in the first key's frame (its root x/z and heading
 //! removed) with each frame's phase between its keys, and outputs a
 //! correction of the root position and of every joint's 6D rotation value
@@ -64,7 +64,7 @@ fn apply(m: &Mat3<f64>, v: V3) -> V3 {
     std::array::from_fn(|i| m[i][0] * v[0] + m[i][1] * v[1] + m[i][2] * v[2])
 }
 
-/// The first two columns, as `train/tween_resid.py`'s `sixd`.
+/// The first two columns, as `train/deeprep_train/motion/residual.py`'s `sixd`.
 fn sixd(m: &Mat3<f64>) -> [f64; 6] {
     [m[0][0], m[1][0], m[2][0], m[0][1], m[1][1], m[2][1]]
 }
@@ -93,7 +93,7 @@ fn from_sixd(r: &[f64; 6]) -> Option<Mat3<f64>> {
     Some(std::array::from_fn(|i| [b1[i], b2[i], b3[i]]))
 }
 
-/// Rotation by `t` radians about y, as `train/tween_resid.py`'s `rot_y`.
+/// Rotation by `t` radians about y, as `train/deeprep_train/motion/residual.py`'s `rot_y`.
 fn rot_y(t: f64) -> Mat3<f64> {
     let (s, c) = t.sin_cos();
     [[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]]

@@ -68,7 +68,7 @@ const USAGE: &str = "usage:
       their axis, a non-manifold surface (Fig. 2.9); default N 6
   deeprep mesh pack TEMPLATE.obj POSE.obj... --out PREFIX
       a user's posed meshes (OBJ files with the template's vertices and faces, in order) as a
-      pose set for train_mesh.py (each labelled with its index and file)
+      pose set for mesh/train.py (each labelled with its index and file)
   deeprep mesh deform MESH.obj --out PREFIX [--count N] [--seed S]
       N smooth random deformations (a bend, a twist, three bumps) of MESH's welded
       vertices, as mesh poses writes them; interior vertices of a solid are listed

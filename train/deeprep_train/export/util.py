@@ -1,0 +1,37 @@
+"""Helpers shared by the export scripts: git commit, manifest writing, fixtures."""
+import json
+import subprocess
+
+from deeprep_train.paths import ONNX_DIR, ROOT  # noqa: F401  (ONNX_DIR: re-exported for the exporters)
+
+
+def git_commit() -> str:
+    try:
+        out = subprocess.run(["git", "rev-parse", "HEAD"], cwd=ROOT, capture_output=True, text=True, check=True)
+        dirty = subprocess.run(["git", "status", "--porcelain", "train"], cwd=ROOT, capture_output=True, text=True).stdout.strip()
+        return out.stdout.strip() + ("+dirty" if dirty else "")
+    except Exception:
+        return "unknown"
+
+
+def write_json(path: str, obj) -> None:
+    with open(path, "w") as f:
+        json.dump(obj, f, indent=1)
+        f.write("\n")
+
+
+HALF_SUFFIX = "::float16"
+
+
+def initializer_arrays(model):
+    """Name -> float32 numpy array of every initializer of an ONNX model,
+    with weights stored as float16 behind a Cast (export/half_weights.py) under the
+    name the graph reads them by, widened back to float32."""
+    import numpy as np
+    from onnx import numpy_helper
+    arrays = {i.name: numpy_helper.to_array(i) for i in model.graph.initializer}
+    for n in model.graph.node:
+        if n.op_type == "Cast" and len(n.input) == 1 and n.input[0] in arrays \
+                and arrays[n.input[0]].dtype == np.float16:
+            arrays[n.output[0]] = arrays.pop(n.input[0]).astype(np.float32)
+    return arrays

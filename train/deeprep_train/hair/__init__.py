@@ -1,0 +1,1 @@
+"""Hair: HairNet (thesis chapter 4)."""

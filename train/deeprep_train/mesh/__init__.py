@@ -1,0 +1,1 @@
+"""Meshes: the fully convolutional mesh autoencoder (thesis chapter 3)."""

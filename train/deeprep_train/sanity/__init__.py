@@ -1,0 +1,1 @@
+"""Rotation-representation sanity experiments (thesis chapter 2, Table 2.1)."""
