@@ -7,7 +7,7 @@ SUDO=""; [ "$(id -u)" = 0 ] || SUDO=sudo
 export PATH="$HOME/.cargo/bin:$PATH"
 step() { printf '\n== setup: %s\n' "$*"; }
 
-APT_PKGS=(rustc-web cargo-web rust-web-src lld binaryen chromium chromium-driver mesa-vulkan-drivers libvulkan1)
+APT_PKGS=(rustc-web cargo-web rust-web-src rust-web-clippy lld binaryen chromium chromium-driver mesa-vulkan-drivers libvulkan1)
 step "Debian packages: ${APT_PKGS[*]}"
 if ! dpkg -s "${APT_PKGS[@]}" >/dev/null 2>&1; then
   $SUDO apt-get update -q

@@ -8,6 +8,9 @@ export PATH="$HOME/.cargo/bin:$PATH"
 t_start=$(date +%s)
 section() { printf '\n==== %s (t+%ss)\n' "$*" "$(( $(date +%s) - t_start ))"; }
 
+section "lint: cargo fmt, clippy natively and for wasm32 (warnings are errors)"
+bash scripts/lint.sh
+
 section "native: cargo test"
 cargo test --workspace
 

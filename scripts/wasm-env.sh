@@ -5,6 +5,8 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 SHIM="$ROOT/target/wasm-toolchain/bin"
 mkdir -p "$SHIM"
 for t in cargo rustc rustdoc; do ln -sf "/usr/bin/$t" "$SHIM/$t"; done
+# Debian's clippy for the same toolchain (rust-web-clippy), when installed
+for t in cargo-clippy clippy-driver; do [ -x "/usr/bin/$t" ] && ln -sf "/usr/bin/$t" "$SHIM/$t"; done
 export PATH="$SHIM:$HOME/.cargo/bin:$PATH"
 export RUSTC=/usr/bin/rustc RUSTDOC=/usr/bin/rustdoc RUSTC_BOOTSTRAP=1
 # One flag set for every wasm build (library, tests, wasm-pack), so the

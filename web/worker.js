@@ -121,7 +121,7 @@ async function handleInit(msg) {
     postMessage({ type: 'progress', id: msg.id, stage: 'warming up', fraction: 1 });
     const skel = BvhClip.parse(model.skeletonBvh);
     const rest = new Float32Array(2 * skel.channelCount);
-    model.synthesize(new Uint32Array([0, 63]), rest, 64, true, new Float32Array(0), undefined, false).free();
+    model.synthesize(new Uint32Array([0, 63]), rest, 64).free();
     // the generator too, when whole poses go to the residual network
     if (model.residualIsDefault) {
       model.synthesizeRequest('{"frames": 64, "keys": [{"frame": 0, "root": [0, 56, 0]}, {"frame": 63, "root": [0, 56, 1]}]}').free();
@@ -199,7 +199,9 @@ function handle(msg) {
     const kc = new Float32Array(msg.keyChannels);
     const r = msg.method === 'slerp' ? model.interpolate(kf, kc, msg.frames)
       : msg.method === 'residual' ? model.residual(kf, kc, msg.frames, msg.variation)
-        : model.synthesize(kf, kc, msg.frames, msg.post ?? true, new Float32Array(msg.dna || []), msg.variation, msg.footLock);
+        : model.synthesize(kf, kc, msg.frames, {
+          post: msg.post ?? true, dna: new Float32Array(msg.dna || []), variation: msg.variation ?? undefined, footLock: msg.footLock ?? false,
+        });
     postMessage({ type: 'progress', id, stage: 'writing BVH', fraction: 0.9 });
     postResult(id, msg.method, r);
   } else if (msg.type === 'synthesizeFromBvh') {

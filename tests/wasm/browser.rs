@@ -4,6 +4,7 @@
 
 use deeprep::rotation::batch::{self, Repr};
 use deeprep::runtime::{Model, TensorF32};
+use wasm_bindgen::{JsCast, JsValue};
 use wasm_bindgen_test::*;
 
 wasm_bindgen_test_configure!(run_in_browser);
@@ -304,12 +305,57 @@ fn hostile_inputs_reject_and_the_instance_keeps_working() {
     let mut nan = two.clone();
     nan[5] = f32::NAN;
     assert!(m.interpolate(&[0, 10], &nan, 20).is_err(), "NaN");
+    let none = synth_options(&[]);
     assert!(m
-        .synthesize(&[0, 10], &two, usize::MAX, true, &[], None, None)
+        .synthesize(&[0, 10], &two, usize::MAX, Some(synth_options(&[])))
         .is_err());
+    let nan_variation = synth_options(&[("variation", JsValue::from_f64(f64::NAN))]);
     assert!(m
-        .synthesize(&[0, 10], &two, 20, true, &[], Some(f32::NAN), None)
+        .synthesize(&[0, 10], &two, 20, Some(nan_variation))
         .is_err());
+    // the options object: defaults, every option, and mistakes named
+    assert!(m.synthesize(&[0, 10], &two, 20, Some(none)).is_ok());
+    assert!(m.synthesize(&[0, 10], &two, 20, None).is_ok());
+    let all = synth_options(&[
+        ("post", JsValue::TRUE),
+        ("footLock", JsValue::TRUE),
+        ("variation", JsValue::from_f64(0.5)),
+        ("dna", js_sys::Float32Array::from(&two[..]).into()),
+    ]);
+    assert!(m.synthesize(&[0, 10], &two, 20, Some(all)).is_ok());
+    for (opts, says) in [
+        (
+            synth_options(&[("footlock", JsValue::TRUE)]),
+            "unknown option 'footlock'",
+        ),
+        (
+            synth_options(&[("post", JsValue::from_f64(1.0))]),
+            "'post' must be a boolean",
+        ),
+        (
+            synth_options(&[("variation", JsValue::from_str("1"))]),
+            "'variation' must be a number",
+        ),
+        (
+            synth_options(&[("dna", JsValue::from_str("x"))]),
+            "'dna' must be a Float32Array",
+        ),
+        (
+            js_sys::Array::new().unchecked_into(),
+            "options must be an object",
+        ),
+    ] {
+        let e = m
+            .synthesize(&[0, 10], &two, 20, Some(opts))
+            .err()
+            .expect(says);
+        let msg = JsValue::from(e);
+        let msg = js_sys::Reflect::get(&msg, &"message".into())
+            .unwrap()
+            .as_string()
+            .unwrap();
+        assert!(msg.contains(says), "{msg}");
+    }
     // requests as JSON with keys of any kind (issue 20): bad ones are errors
     for bad in [
         "{",
@@ -375,3 +421,12 @@ fn hostile_inputs_reject_and_the_instance_keeps_working() {
 const HAIR_FEATURES: &[u8] = include_bytes!("../../models/onnx/hair_features.onnx");
 const HAIR_STRANDS: &[u8] = include_bytes!("../../models/onnx/hair_strands.onnx");
 const HAIR_MANIFEST: &str = include_str!("../../models/onnx/hair_features.manifest.json");
+
+/// An `Inbetweener.synthesize` options object with these fields.
+fn synth_options(fields: &[(&str, JsValue)]) -> deeprep::wasm::SynthesizeOptions {
+    let o = js_sys::Object::new();
+    for (k, v) in fields {
+        js_sys::Reflect::set(&o, &JsValue::from_str(k), v).unwrap();
+    }
+    o.unchecked_into()
+}

@@ -23,23 +23,23 @@ await withBenchPage(async (page) => {
       for (let f = 0, i = 0; f < n; f += 240, i++) { frames.push(f); const c = poses[i % poses.length].channels.slice(); c[0] = 30 * i; chans.push(...c); }
       const kf = new Uint32Array(frames), kc = new Float32Array(chans);
       let t = performance.now();
-      model.synthesize(kf, kc, n, true, new Float32Array()).free();
+      model.synthesize(kf, kc, n, { post: true }).free();
       const first = performance.now() - t;
       let best = null, bestTotal = Infinity;
       for (let r = 0; r < reps; r++) {
         t = performance.now();
-        const res = model.synthesize(kf, kc, n, true, new Float32Array());
+        const res = model.synthesize(kf, kc, n, { post: true });
         const total = performance.now() - t;
         if (total < bestTotal) { bestTotal = total; best = Array.from(res.times); }
         res.free();
       }
       t = performance.now();
-      anyLength.synthesize(kf, kc, n, true, new Float32Array()).free();
+      anyLength.synthesize(kf, kc, n, { post: true }).free();
       const anyFirst = performance.now() - t;
       let anyBest = Infinity;
       for (let r = 0; r < reps; r++) {
         t = performance.now();
-        anyLength.synthesize(kf, kc, n, true, new Float32Array()).free();
+        anyLength.synthesize(kf, kc, n, { post: true }).free();
         anyBest = Math.min(anyBest, performance.now() - t);
       }
       t = performance.now();

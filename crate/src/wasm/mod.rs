@@ -22,7 +22,7 @@ pub use hair::HairLab;
 pub use hair_gpu::GpuHairDecoder;
 pub use ik::{IkResult, IkSolver};
 pub use mesh::MeshLab;
-pub use motion::{InbetweenResult, Inbetweener};
+pub use motion::{InbetweenResult, Inbetweener, SynthesizeOptions};
 pub use onnx::OnnxModel;
 pub use rotation::{convert_rotations, geodesic_distances, pca_2d, rotation_circle, rotation_dim};
 #[cfg(feature = "gpu")]
@@ -65,7 +65,7 @@ fn flat3(p: &[[f32; 3]]) -> Vec<f32> {
 }
 
 fn points3(flat: &[f32], what: &str) -> Result<Vec<[f32; 3]>, JsError> {
-    if flat.len() % 3 != 0 {
+    if !flat.len().is_multiple_of(3) {
         return Err(JsError::new(&format!(
             "{what}: expected a multiple of 3 numbers, found {}",
             flat.len()

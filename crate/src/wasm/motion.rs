@@ -2,6 +2,7 @@
 
 use super::js_err;
 use wasm_bindgen::prelude::*;
+use wasm_bindgen::JsCast;
 
 /// A seed from JS: a non-negative integer up to 2^53 (what a JS number holds exactly).
 fn seed(v: f64) -> Result<u64, JsError> {
@@ -27,7 +28,7 @@ pub fn dna_frames_of_clip(
 ) -> Result<Vec<u32>, JsError> {
     let mut clip = skeleton.bvh().clone();
     let c = clip.channel_count();
-    if motion.is_empty() || motion.len() % c != 0 {
+    if motion.is_empty() || !motion.len().is_multiple_of(c) {
         return Err(JsError::new(&format!(
             "motion: expected whole frames of {c} channel values, found {} values",
             motion.len()
@@ -230,45 +231,38 @@ impl Inbetweener {
     /// Synthesizes `frames` frames through whole-pose keys given as BVH
     /// channel rows of the model's skeleton (`keyChannels`: keys × channels)
     /// at `keyFrames` (sorted, unique, < frames, at most 3,000 apart; gaps over
-    /// 600 run hierarchically, see `criticalFrames`).
-    /// `dnaChannels` (optional, may be empty): Motion DNA poses as channel
-    /// rows; their root rotation is removed. Empty: the keys serve as DNA.
-    /// `postProcess`: make the keys exact; false returns the networks' raw
-    /// motion. `footLock` (optional, default false; only with
-    /// `postProcess`): then pin feet in contact with the floor
-    /// (`motion::feet`).
-    /// `variation` (optional, in [0, 2]): how much of the networks'
-    /// departure from SLERP+LERP to keep, in the pose and the root path; 1
-    /// is the networks as trained, 0 SLERP+LERP; absent: the model's
-    /// default (`defaultVariation`).
+    /// 600 run hierarchically, see `criticalFrames`). `options` (optional, a
+    /// [`SynthesizeOptions`] object): `post` (default true: make the keys
+    /// exact; false returns the networks' raw motion), `dna` (Motion DNA
+    /// poses as channel rows, root rotation removed; absent or empty: the
+    /// keys serve as DNA), `variation` (in [0, 2]: how much of the networks'
+    /// departure from SLERP+LERP to keep, in the pose and the root path; 1 is
+    /// the networks as trained, 0 SLERP+LERP; absent: `defaultVariation`),
+    /// `footLock` (default false; only with `post`: pin feet in contact with
+    /// the floor, `motion::feet`). An unknown option or a value of the wrong
+    /// type is an error, not ignored.
     pub fn synthesize(
         &self,
         key_frames: &[u32],
         key_channels: &[f32],
         frames: usize,
-        post_process: bool,
-        dna_channels: &[f32],
-        variation: Option<f32>,
-        foot_lock: Option<bool>,
+        options: Option<SynthesizeOptions>,
     ) -> Result<InbetweenResult, JsError> {
+        let opts = match &options {
+            Some(o) => Options::read(o)?,
+            None => Options::read(&JsValue::UNDEFINED)?,
+        };
         let keys = keys_from_channels(&self.inner.template, key_frames, key_channels)?;
-        let dna = if dna_channels.is_empty() {
+        let dna = if opts.dna.is_empty() {
             None
         } else {
             let c = self.inner.template.channel_count();
-            let n = dna_channels.len() / c;
+            let n = opts.dna.len() / c;
             let frames_idx: Vec<u32> = (0..n as u32).collect();
-            let poses = keys_from_channels(&self.inner.template, &frames_idx, dna_channels)?;
+            let poses = keys_from_channels(&self.inner.template, &frames_idx, &opts.dna)?;
             Some(poses.iter().map(crate::motion::dna_pose).collect())
         };
-        self.run_model(
-            keys,
-            frames,
-            post_process,
-            dna,
-            variation,
-            foot_lock.unwrap_or(false),
-        )
+        self.run_model(keys, frames, opts.post, dna, opts.variation, opts.foot_lock)
     }
 
     /// Range-constrained angles (degrees) of one joint in a channel row, then
@@ -540,5 +534,104 @@ impl Inbetweener {
             vec![ms, 0.0, 0.0, 0.0],
             vec![0.0; 4],
         )
+    }
+}
+
+#[wasm_bindgen(typescript_custom_section)]
+const SYNTHESIZE_OPTIONS_TS: &str = r#"
+/** Options of `Inbetweener.synthesize`; every field is optional. */
+export interface SynthesizeOptions {
+  /** Make the keys exact (default true); false returns the networks' raw motion. */
+  post?: boolean;
+  /** Motion DNA poses as channel rows (poses × channels); absent or empty: the keys serve as DNA. */
+  dna?: Float32Array | number[];
+  /** Share of the networks' departure from SLERP+LERP, in [0, 2]; absent: `defaultVariation`. */
+  variation?: number;
+  /** Pin feet in contact with the floor (default false; only with `post`). */
+  footLock?: boolean;
+}
+"#;
+
+#[wasm_bindgen]
+extern "C" {
+    /// The options object of [`Inbetweener::synthesize`] (a plain JS object;
+    /// `undefined` for the defaults).
+    #[wasm_bindgen(typescript_type = "SynthesizeOptions")]
+    pub type SynthesizeOptions;
+}
+
+/// [`SynthesizeOptions`] read and checked.
+struct Options {
+    post: bool,
+    dna: Vec<f32>,
+    variation: Option<f32>,
+    foot_lock: bool,
+}
+
+impl Options {
+    const KNOWN: [&'static str; 4] = ["post", "dna", "variation", "footLock"];
+
+    fn read(v: &JsValue) -> Result<Options, JsError> {
+        let mut o = Options {
+            post: true,
+            dna: Vec::new(),
+            variation: None,
+            foot_lock: false,
+        };
+        if v.is_undefined() || v.is_null() {
+            return Ok(o);
+        }
+        if !v.is_object() || js_sys::Array::is_array(v) {
+            return Err(JsError::new(
+                "synthesize: options must be an object such as { post: true, variation: 1 }",
+            ));
+        }
+        for k in js_sys::Object::keys(v.unchecked_ref::<js_sys::Object>()).iter() {
+            let k = k.as_string().unwrap_or_default();
+            if !Self::KNOWN.contains(&k.as_str()) {
+                return Err(JsError::new(&format!(
+                    "synthesize: unknown option '{k}' (known: {})",
+                    Self::KNOWN.join(", ")
+                )));
+            }
+        }
+        let get =
+            |k: &str| js_sys::Reflect::get(v, &JsValue::from_str(k)).unwrap_or(JsValue::UNDEFINED);
+        let bool_of = |k: &str, x: JsValue| {
+            x.as_bool()
+                .ok_or_else(|| JsError::new(&format!("synthesize: option '{k}' must be a boolean")))
+        };
+        let x = get("post");
+        if !x.is_undefined() {
+            o.post = bool_of("post", x)?;
+        }
+        let x = get("footLock");
+        if !x.is_undefined() {
+            o.foot_lock = bool_of("footLock", x)?;
+        }
+        let x = get("variation");
+        if !x.is_undefined() {
+            o.variation =
+                Some(x.as_f64().ok_or_else(|| {
+                    JsError::new("synthesize: option 'variation' must be a number")
+                })? as f32);
+        }
+        let x = get("dna");
+        if !x.is_undefined() {
+            o.dna = if let Some(a) = x.dyn_ref::<js_sys::Float32Array>() {
+                a.to_vec()
+            } else if js_sys::Array::is_array(&x) {
+                js_sys::Array::from(&x)
+                    .iter()
+                    .map(|e| e.as_f64().map(|f| f as f32))
+                    .collect::<Option<Vec<f32>>>()
+                    .ok_or_else(|| JsError::new("synthesize: option 'dna' must hold numbers"))?
+            } else {
+                return Err(JsError::new(
+                    "synthesize: option 'dna' must be a Float32Array or an array of numbers",
+                ));
+            };
+        }
+        Ok(o)
     }
 }

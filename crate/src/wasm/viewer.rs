@@ -240,7 +240,7 @@ impl Viewer {
         max: f32,
     ) -> Result<(), JsError> {
         let pts = points3(positions, "mesh")?;
-        if triangles.len() % 3 != 0 {
+        if !triangles.len().is_multiple_of(3) {
             return Err(JsError::new("viewer: triangles need 3 indices each"));
         }
         if let Some(&bad) = triangles.iter().find(|&&i| i as usize >= pts.len()) {
