@@ -1180,3 +1180,60 @@ fn two_d_keys_are_met_in_x_and_y_after_post_processing() {
         .unwrap();
     assert_eq!(raw.key_error.local, raw.key_error_raw.local);
 }
+
+/// A clip whose joints turn at a speed with three bumps (frames 60.3, 150.3
+/// and 210.3, of decreasing height): its representative frames are the bumps.
+fn dna_fixture_clip() -> String {
+    let mut s = String::from(
+        "HIERARCHY\nROOT hips\n{\n  OFFSET 0 0 0\n  CHANNELS 6 Xposition Yposition Zposition Zrotation Yrotation Xrotation\n  JOINT spine\n  {\n    OFFSET 0 10 0\n    CHANNELS 3 Zrotation Xrotation Yrotation\n    JOINT head\n    {\n      OFFSET 0 5 1\n      CHANNELS 3 Xrotation Yrotation Zrotation\n      End Site\n      {\n        OFFSET 0 3 0\n      }\n    }\n  }\n}\nMOTION\nFrames: 240\nFrame Time: 0.0166667\n",
+    );
+    let speed = |t: f64| {
+        let bump = |c: f64, h: f64| h * (-((t - c) / 6.0).powi(2)).exp();
+        0.5 + bump(60.3, 4.0) + bump(150.3, 3.0) + bump(210.3, 2.0)
+    };
+    let mut angle = 0.0;
+    for f in 0..240 {
+        angle += speed(f as f64);
+        let (a, b) = (angle, 0.5 * angle);
+        let row = [
+            0.5 * f as f64, 90.0, 0.0, 10.0, 0.3 * f as f64, 0.0, // root: position and turn (not measured)
+            a * 0.25, b * 0.1, 5.0, // spine
+            -a * 0.125, 3.0, b * 0.05, // head
+        ];
+        let row: Vec<String> = row.iter().map(|v| format!("{v:.4}")).collect();
+        s.push_str(&row.join(" "));
+        s.push('\n');
+    }
+    s
+}
+
+/// The representative-frame fixture the training code checks its own pick
+/// against (tests/parity/test_dna.py): one implementation of Sec. 5.2.5's
+/// DNA frames, in Rust and in `train/deeprep_train/motion/dna.py`.
+/// `DEEPREP_WRITE_FIXTURES=1` rewrites it; otherwise this checks it.
+#[test]
+fn dna_fixture_shared_with_the_training_code() {
+    use deeprep::motion::dna::representative_frames;
+    let path = root().join("tests/fixtures/dna_native.json");
+    let text = dna_fixture_clip();
+    let clip = Bvh::parse(&text).unwrap();
+    let poses: Vec<Keyframe> = (0..clip.frame_count())
+        .map(|f| Keyframe::from_bvh(&clip, f, f).unwrap())
+        .collect();
+    let picks: Vec<Vec<usize>> = (1..=3)
+        .map(|count| representative_frames(&poses, count).unwrap())
+        .collect();
+    assert_eq!(picks[2], [60, 150, 210], "the three bumps");
+    if std::env::var("DEEPREP_WRITE_FIXTURES").is_ok() {
+        let doc = serde_json::json!({
+            "what": "motion::dna::representative_frames of `bvh` for count = 1..3 (beyond 3 the picks are on the flat part, near-ties) (tests/native/motion.rs)",
+            "bvh": text, "min_spacing": deeprep::motion::dna::MIN_SPACING, "picks": picks,
+        });
+        std::fs::write(&path, serde_json::to_string_pretty(&doc).unwrap()).unwrap();
+    }
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    assert_eq!(doc["bvh"].as_str().unwrap(), text, "the fixture's clip");
+    let want: Vec<Vec<usize>> = serde_json::from_value(doc["picks"].clone()).unwrap();
+    assert_eq!(picks, want);
+}

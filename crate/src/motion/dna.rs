@@ -4,7 +4,9 @@
 //! Training feeds each window's *representative frames*: the frames of
 //! largest joint-rotation change from their neighbours, at least
 //! [`MIN_SPACING`] frames apart, one per [`FRAMES_PER_DNA`] frames of the
-//! window (`train/deeprep_train/motion/train.py`, `rep_frames`). [`pick_dna_frames`] does
+//! window (the rule of `train/deeprep_train/motion/dna.py`, which training
+//! applies to RC angles; tests/parity/test_dna.py checks the two sides agree
+//! on a shared fixture). [`pick_dna_frames`] does
 //! the same on a window of the source clip chosen by a seed, so a seed gives
 //! a different but repeatable style, drawn the way training drew it.
 

@@ -49,6 +49,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from deeprep_train.bvh import axis_rot, fk_from_local, global_fk, local_fk, mat_to_quat, read_bvh, resample  # noqa: E402,F401
+from deeprep_train.motion.dna import representative_frames_of_clip  # noqa: E402
 from deeprep_train.motion.data import DATA, TRUE_FPS, VALIDATION, take_of  # noqa: E402
 
 from deeprep_train.paths import ROOT, CACHE  # noqa: E402
@@ -258,18 +259,9 @@ def blend_fk(bvh, a, b, w):
 
 
 def rep_frames(bvh, k):
-    """Frames of largest local rotation change from the adjacent frames,
-    >= 30 apart (motion.train.rep_frames, on quaternions instead of RC angles)."""
-    q = mat_to_quat(local_fk(bvh)[1][:, 1:]).reshape(len(bvh[4]), -1)
-    change = np.zeros(len(q))
-    change[1:-1] = np.linalg.norm(q[2:] - q[:-2], axis=1)
-    picked = []
-    for i in np.argsort(-change):
-        if all(abs(int(i) - j) >= 30 for j in picked):
-            picked.append(int(i))
-        if len(picked) == k:
-            break
-    return sorted(picked)
+    """Motion DNA frames of a clip as the crate picks them (motion.dna:
+    largest local-rotation change, >= 30 frames apart)."""
+    return representative_frames_of_clip(bvh, k)
 
 
 def cubic_fk(bvh, keys):

@@ -19,6 +19,7 @@ import time
 import numpy as np
 import torch
 
+from deeprep_train.motion.dna import representative_frames  # noqa: E402
 from deeprep_train.rcfk import RCFK  # noqa: E402
 from deeprep_train.rotation import sixd_to_matrix  # noqa: E402
 from deeprep_train.motion.nets import (SCALE, GAN_TARGET, Discriminator, Generator, PathPredictor,  # noqa: E402
@@ -62,18 +63,9 @@ def lam(local, r6):
 
 
 def rep_frames(rc, k):
-    """Representative frames: largest joint-rotation change from the adjacent frames, spaced >= 30 frames."""
-    ang = rc[:, 9:]
-    change = torch.zeros(len(ang))
-    change[1:-1] = (ang[2:] - ang[:-2]).norm(dim=1)
-    order = torch.argsort(change, descending=True).tolist()
-    picked = []
-    for i in order:
-        if all(abs(i - j) >= 30 for j in picked):
-            picked.append(i)
-        if len(picked) == k:
-            break
-    return sorted(picked)
+    """Representative frames of a window's RC values [N, C] (Sec. 5.2.5):
+    motion.dna's rule on the joint angles (the root's 9 values left out)."""
+    return representative_frames(rc[:, 9:].detach().cpu().numpy(), k)
 
 
 def spectral_loss(gen, gt, keysets, min_gap=30):
