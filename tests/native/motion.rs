@@ -1195,10 +1195,12 @@ fn dna_fixture_clip() -> String {
     for f in 0..240 {
         angle += speed(f as f64);
         let (a, b) = (angle, 0.5 * angle);
+        // root (position and turn, not measured), spine, head
+        #[rustfmt::skip]
         let row = [
-            0.5 * f as f64, 90.0, 0.0, 10.0, 0.3 * f as f64, 0.0, // root: position and turn (not measured)
-            a * 0.25, b * 0.1, 5.0, // spine
-            -a * 0.125, 3.0, b * 0.05, // head
+            0.5 * f as f64, 90.0, 0.0, 10.0, 0.3 * f as f64, 0.0,
+            a * 0.25, b * 0.1, 5.0,
+            -a * 0.125, 3.0, b * 0.05,
         ];
         let row: Vec<String> = row.iter().map(|v| format!("{v:.4}")).collect();
         s.push_str(&row.join(" "));
