@@ -28,7 +28,7 @@ use crate::error::{Error, Result};
 use crate::rotation::euler::{euler_to_matrix, matrix_to_euler, EulerOrder};
 use crate::rotation::sixd::{matrix_to_6d, sixd_to_matrix};
 use crate::rotation::{cross, dot, from_cols, mul, mul_vec, norm, transpose, Mat3};
-use crate::skeleton::{fk, Bvh};
+use crate::skeleton::Bvh;
 use serde::Deserialize;
 
 /// Bound on |v| when rotations are mapped back into the raw space.
@@ -368,28 +368,14 @@ impl RcSkeleton {
                 found: format!("{}", bvh.joints.len()),
             });
         }
-        let vals = bvh.frame(frame);
-        let local_of = |j: usize| {
-            let jt = &bvh.joints[j];
-            let r = fk::local_rotation(
-                &jt.channels,
-                &vals[jt.channel_start..jt.channel_start + jt.channels.len()],
-            );
-            crate::rotation::from_glam_f64(&r)
-        };
-        let root = &bvh.joints[0];
-        let mut root_pos = root.offset.map(|v| v as f64);
-        for (c, v) in root.channels.iter().zip(&vals[root.channel_start..]) {
-            if !c.is_rotation() {
-                root_pos[c.axis()] += *v as f64;
-            }
-        }
+        let pose = crate::skeleton::Pose::read(bvh, bvh.frame(frame));
+        let t0 = pose.translations[0];
         let root_pos = [
-            root_pos[0] - self.offsets[0][0],
-            root_pos[1] - self.offsets[0][1],
-            root_pos[2] - self.offsets[0][2],
+            t0.x - self.offsets[0][0],
+            t0.y - self.offsets[0][1],
+            t0.z - self.offsets[0][2],
         ];
-        let local: Vec<Mat3<f64>> = (0..bvh.joints.len()).map(local_of).collect();
+        let local = pose.rotation_matrices();
         let mut angles = Vec::with_capacity(self.rotating.len());
         let mut excess = Vec::with_capacity(self.rotating.len());
         for k in 0..self.rotating.len() {

@@ -30,9 +30,8 @@ pub mod spline;
 pub mod xy;
 
 use crate::error::{Error, Result};
-use crate::rotation::euler::{matrix_to_euler, Axis, EulerOrder, Frame};
 use crate::rotation::{mul_vec, Mat3};
-use crate::skeleton::{fk, Bvh};
+use crate::skeleton::Bvh;
 use feet::FootLock;
 
 /// The longest motion deeprep synthesizes or interpolates: 36,000 frames
@@ -148,25 +147,15 @@ impl Keyframe {
                 bvh.frame_count()
             )));
         }
-        let vals = bvh.frame(src);
-        let g = fk::global_pose(bvh, vals);
+        let pose = crate::skeleton::Pose::read(bvh, bvh.frame(src));
+        let g = pose.global(bvh);
         let root = g.positions[0];
         let mut positions = Vec::with_capacity(3 * bvh.joints.len());
         for (i, p) in g.positions.iter().enumerate() {
             let q = if i == 0 { *p } else { *p - root };
             positions.extend_from_slice(&[q.x as f32, q.y as f32, q.z as f32]);
         }
-        let rotations = bvh
-            .joints
-            .iter()
-            .map(|j| {
-                let r = fk::local_rotation(
-                    &j.channels,
-                    &vals[j.channel_start..j.channel_start + j.channels.len()],
-                );
-                crate::rotation::from_glam_f64(&r)
-            })
-            .collect();
+        let rotations = pose.rotation_matrices();
         Ok(Keyframe {
             frame,
             mask: vec![true; positions.len()],
@@ -282,34 +271,22 @@ impl Motion {
         out.frame_time = frame_time;
         let c = template.channel_count();
         out.motion = vec![0.0; c * self.len()];
+        let offsets: Vec<glam::DVec3> = template
+            .joints
+            .iter()
+            .map(|j| glam::DVec3::new(j.offset[0] as f64, j.offset[1] as f64, j.offset[2] as f64))
+            .collect();
         for f in 0..self.len() {
-            let row = &mut out.motion[f * c..(f + 1) * c];
-            for (j, joint) in template.joints.iter().enumerate() {
-                let rot: Vec<Axis> = joint
-                    .channels
+            let mut translations = offsets.clone();
+            translations[0] = glam::DVec3::from(self.root[f]);
+            let pose = crate::skeleton::Pose {
+                translations,
+                rotations: self.rotations[f]
                     .iter()
-                    .filter(|ch| ch.is_rotation())
-                    .map(|ch| [Axis::X, Axis::Y, Axis::Z][ch.axis()])
-                    .collect();
-                let angles = if rot.len() == 3 {
-                    let order = EulerOrder::new([rot[0], rot[1], rot[2]], Frame::Intrinsic)?;
-                    matrix_to_euler(&self.rotations[f][j], order)
-                } else {
-                    [0.0; 3]
-                };
-                let mut ri = 0;
-                for (k, ch) in joint.channels.iter().enumerate() {
-                    row[joint.channel_start + k] = if ch.is_rotation() {
-                        let a = angles[ri].to_degrees() as f32;
-                        ri += 1;
-                        a
-                    } else if j == 0 {
-                        (self.root[f][ch.axis()] - joint.offset[ch.axis()] as f64) as f32
-                    } else {
-                        0.0
-                    };
-                }
-            }
+                    .map(crate::rotation::to_glam_f64)
+                    .collect(),
+            };
+            out.motion[f * c..(f + 1) * c].copy_from_slice(&pose.to_row(template)?);
         }
         Ok(out)
     }

@@ -2,11 +2,15 @@
 //!
 //! - [`bvh`]: a reader and writer for any BVH skeleton (per-joint channel
 //!   orders, End Sites, any frame time), with line-numbered errors.
+//! - [`pose`]: one frame in local form ([`Pose`]), the one reader and
+//!   writer of a BVH channel row.
 //! - [`fk`]: forward kinematics from BVH channels to global positions.
 //! - [`resample`]: frame-rate conversion (slerped rotations).
 
 pub mod bvh;
 pub mod fk;
+pub mod pose;
 pub mod resample;
 
 pub use bvh::{Bvh, Channel, Joint};
+pub use pose::Pose;

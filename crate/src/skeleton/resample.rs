@@ -3,9 +3,10 @@
 //! two nearest source frames. Used to bring a user's clip to the model's
 //! 60 fps and the result back to the clip's rate.
 
-use super::{fk, Bvh};
+use super::pose::{local_rotation, rotation_order};
+use super::Bvh;
 use crate::error::{Error, Result};
-use crate::rotation::euler::{matrix_to_euler, Axis, EulerOrder, Frame};
+use crate::rotation::euler::{matrix_to_euler, EulerOrder};
 use crate::rotation::quat::{matrix_to_quat, quat_to_matrix_unit, slerp};
 use crate::rotation::{from_glam_f64, Mat3};
 
@@ -24,18 +25,6 @@ pub fn resampled_len(frames: usize, from: f64, to: f64) -> usize {
 /// The frame of a clip at `from` fps nearest to frame `f` at `to` fps.
 pub fn map_frame(f: usize, from: f64, to: f64) -> usize {
     (f as f64 * to / from).round() as usize
-}
-
-fn rotation_order(b: &Bvh, j: usize) -> Option<EulerOrder> {
-    let axes: Vec<Axis> = b.joints[j]
-        .channels
-        .iter()
-        .filter(|c| c.is_rotation())
-        .map(|c| [Axis::X, Axis::Y, Axis::Z][c.axis()])
-        .collect();
-    (axes.len() == 3)
-        .then(|| EulerOrder::new([axes[0], axes[1], axes[2]], Frame::Intrinsic).ok())
-        .flatten()
 }
 
 /// `b` at `fps` frames per second. Joints with three rotation channels are
@@ -73,14 +62,10 @@ pub fn resample(b: &Bvh, fps: f64) -> Result<Bvh> {
             let s = joint.channel_start;
             let e = s + joint.channels.len();
             let angles = orders[j].map(|order| {
-                let qa = matrix_to_quat(&from_glam_f64(&fk::local_rotation(
-                    &joint.channels,
-                    &ra[s..e],
-                )));
-                let qb = matrix_to_quat(&from_glam_f64(&fk::local_rotation(
-                    &joint.channels,
-                    &rb[s..e],
-                )));
+                let qa =
+                    matrix_to_quat(&from_glam_f64(&local_rotation(&joint.channels, &ra[s..e])));
+                let qb =
+                    matrix_to_quat(&from_glam_f64(&local_rotation(&joint.channels, &rb[s..e])));
                 let r: Mat3<f64> = quat_to_matrix_unit(&slerp(&qa, &qb, w));
                 matrix_to_euler(&r, order)
             });
