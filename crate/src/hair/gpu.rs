@@ -21,7 +21,7 @@ pub struct GpuStrandDecoder {
 }
 
 /// A dispatched decode whose results are being copied to `readback`; map it
-/// (`map_async`), wait, then call [`Pending::read`].
+/// ([`crate::viewer::gpu::map_read`]), wait, then call [`Pending::read`].
 pub struct Pending {
     /// The buffer to map for reading.
     pub readback: wgpu::Buffer,
@@ -257,18 +257,7 @@ impl GpuStrandDecoder {
         k: usize,
     ) -> Result<(Vec<f32>, Vec<f32>)> {
         let p = self.dispatch(device, queue, feats, k)?;
-        let (tx, rx) = std::sync::mpsc::channel();
-        p.readback
-            .slice(..)
-            .map_async(wgpu::MapMode::Read, move |r| {
-                let _ = tx.send(r);
-            });
-        device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| Error::Invalid(format!("GPU poll: {e}")))?;
-        rx.recv()
-            .map_err(|e| Error::Invalid(format!("readback: {e}")))?
-            .map_err(|e| Error::Invalid(format!("readback: {e}")))?;
+        crate::viewer::gpu::map_read_blocking(device, p.readback.slice(..))?;
         p.read()
     }
 }

@@ -3,6 +3,7 @@
 //! GPU, Mesa's lavapipe (Vulkan) or llvmpipe (GL) serves as the adapter.
 
 use super::camera::OrbitCamera;
+use super::gpu;
 use super::renderer::Renderer;
 use super::scene::Scene;
 use crate::error::{Error, Result};
@@ -33,9 +34,7 @@ impl Headless {
 
     fn with_limits(limits: wgpu::Limits) -> Result<Self> {
         pollster::block_on(async {
-            let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
-            desc.backends = wgpu::Backends::VULKAN | wgpu::Backends::GL;
-            let instance = wgpu::Instance::new(desc);
+            let instance = gpu::instance(wgpu::Backends::VULKAN | wgpu::Backends::GL);
             let adapter = instance
                 .request_adapter(&wgpu::RequestAdapterOptions::default())
                 .await
@@ -45,14 +44,9 @@ impl Headless {
                     ))
                 })?;
             let info = adapter.get_info();
-            let (device, queue) = adapter
-                .request_device(&wgpu::DeviceDescriptor {
-                    label: Some("deeprep headless"),
-                    required_limits: limits.using_resolution(adapter.limits()),
-                    ..Default::default()
-                })
-                .await
-                .map_err(|e| Error::Invalid(format!("GPU device: {e}")))?;
+            let (device, queue) =
+                gpu::open_device(&adapter, limits, "deeprep headless", |m| eprintln!("{m}"))
+                    .await?;
             let renderer = Renderer::new(&device, FORMAT);
             Ok(Headless {
                 device,
@@ -144,16 +138,7 @@ impl Headless {
         );
         self.queue.submit([enc.finish()]);
         let slice = buf.slice(..);
-        let (tx, rx) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        self.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| Error::Invalid(format!("GPU poll: {e}")))?;
-        rx.recv()
-            .map_err(|e| Error::Invalid(format!("readback: {e}")))?
-            .map_err(|e| Error::Invalid(format!("readback: {e}")))?;
+        gpu::map_read_blocking(&self.device, slice)?;
         let data = slice
             .get_mapped_range()
             .map_err(|e| Error::Invalid(format!("readback: {e:?}")))?;

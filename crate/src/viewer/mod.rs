@@ -6,12 +6,15 @@
 //! - [`scene`]: what is drawn, as plain data, and joint picking (pure math).
 //! - [`renderer`]: GPU pipelines that draw a scene into any color target:
 //!   a WebGPU or WebGL2 canvas in the browser, an offscreen texture natively.
+//! - [`gpu`]: device setup and readback, once for every GPU user.
 //! - [`headless`] (native): a scene into an RGBA image, for tests and the CLI.
 //!
 //! App state (keys, timeline, selection) stays with the caller, which
 //! rebuilds the [`scene::Scene`] each frame.
 
 pub mod camera;
+#[cfg(feature = "gpu")]
+pub mod gpu;
 #[cfg(all(feature = "gpu", not(target_arch = "wasm32")))]
 pub mod headless;
 #[cfg(feature = "gpu")]

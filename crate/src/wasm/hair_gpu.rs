@@ -2,6 +2,7 @@
 
 use super::hair::HairLab;
 use super::{flat3, js_err};
+use crate::viewer::gpu;
 use wasm_bindgen::prelude::*;
 
 #[wasm_bindgen]
@@ -16,22 +17,19 @@ impl HairLab {
         let channels = self.model.channels();
         wasm_bindgen_futures::future_to_promise(async move {
             let fail = |m: String| JsValue::from(JsError::new(&m));
-            let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
-            desc.backends = wgpu::Backends::BROWSER_WEBGPU;
-            let instance = wgpu::Instance::new(desc);
+            let instance = gpu::instance(wgpu::Backends::BROWSER_WEBGPU);
             let adapter = instance
                 .request_adapter(&wgpu::RequestAdapterOptions::default())
                 .await
                 .map_err(|e| fail(format!("no WebGPU adapter: {e}")))?;
-            let (device, queue) = adapter
-                .request_device(&wgpu::DeviceDescriptor {
-                    label: Some("deeprep hair decoder"),
-                    required_limits: wgpu::Limits::downlevel_defaults()
-                        .using_resolution(adapter.limits()),
-                    ..Default::default()
-                })
-                .await
-                .map_err(|e| fail(format!("WebGPU device: {e}")))?;
+            let (device, queue) = gpu::open_device(
+                &adapter,
+                wgpu::Limits::downlevel_defaults(),
+                "deeprep hair decoder",
+                |m| web_sys::console::warn_1(&m.into()),
+            )
+            .await
+            .map_err(|e| fail(e.to_string()))?;
             let decoder = crate::hair::gpu::GpuStrandDecoder::new(&device, &weights)
                 .map_err(|e| fail(e.to_string()))?;
             Ok(GpuHairDecoder {
@@ -89,20 +87,10 @@ impl GpuHairDecoder {
             curl_threshold,
         };
         Ok(wasm_bindgen_futures::future_to_promise(async move {
-            let buffer = pending.readback.clone();
-            let mapped = js_sys::Promise::new(&mut |resolve, reject| {
-                buffer.slice(..).map_async(wgpu::MapMode::Read, move |r| {
-                    let _ = match r {
-                        Ok(()) => resolve.call0(&JsValue::NULL),
-                        Err(e) => reject.call1(
-                            &JsValue::NULL,
-                            &JsValue::from_str(&format!("GPU readback: {e}")),
-                        ),
-                    };
-                });
-            });
-            wasm_bindgen_futures::JsFuture::from(mapped).await?;
             let err = |e: crate::Error| JsValue::from(JsError::new(&e.to_string()));
+            gpu::map_read(pending.readback.slice(..))
+                .await
+                .map_err(err)?;
             let n = uv.len();
             let (pos, curv) = pending.read().map_err(err)?;
             let (local, curvature) = decoding.outputs_to_strands(&pos, &curv, n).map_err(err)?;

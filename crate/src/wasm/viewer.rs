@@ -1,6 +1,7 @@
 //! The wgpu viewer on a canvas (WebGPU, else WebGL2).
 
 use super::{install_panic_hook, points3};
+use crate::viewer::gpu;
 use wasm_bindgen::prelude::*;
 
 /// The wgpu viewer on a canvas: WebGPU when the browser offers it, WebGL2
@@ -68,9 +69,7 @@ impl Viewer {
         let (w, h) = (canvas.width().max(1), canvas.height().max(1));
         let mut found = None;
         if !force_webgl2 {
-            let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
-            desc.backends = wgpu::Backends::BROWSER_WEBGPU;
-            let instance = wgpu::Instance::new(desc);
+            let instance = gpu::instance(wgpu::Backends::BROWSER_WEBGPU);
             if let Ok(adapter) = instance
                 .request_adapter(&wgpu::RequestAdapterOptions::default())
                 .await
@@ -86,9 +85,7 @@ impl Viewer {
                 (instance, surface, adapter)
             }
             None => {
-                let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
-                desc.backends = wgpu::Backends::GL;
-                let instance = wgpu::Instance::new(desc);
+                let instance = gpu::instance(wgpu::Backends::GL);
                 let surface = instance
                     .create_surface(wgpu::SurfaceTarget::Canvas(canvas))
                     .map_err(|e| JsError::new(&format!("viewer: cannot use the canvas: {e}")))?;
@@ -105,23 +102,19 @@ impl Viewer {
             }
         };
         let info = adapter.get_info();
-        let (device, queue) = adapter
-            .request_device(&wgpu::DeviceDescriptor {
-                label: Some("deeprep viewer"),
-                required_limits: wgpu::Limits::downlevel_webgl2_defaults()
-                    .using_resolution(adapter.limits()),
-                ..Default::default()
-            })
-            .await
-            .map_err(|e| JsError::new(&format!("viewer: GPU device: {e}")))?;
         let lost = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
         let flag = lost.clone();
-        device.set_device_lost_callback(move |reason, message| {
-            flag.store(true, std::sync::atomic::Ordering::SeqCst);
-            web_sys::console::warn_1(
-                &format!("deeprep viewer: GPU device lost ({reason:?}): {message}").into(),
-            );
-        });
+        let (device, queue) = gpu::open_device(
+            &adapter,
+            wgpu::Limits::downlevel_webgl2_defaults(),
+            "deeprep viewer",
+            move |m| {
+                flag.store(true, std::sync::atomic::Ordering::SeqCst);
+                web_sys::console::warn_1(&m.into());
+            },
+        )
+        .await
+        .map_err(|e| JsError::new(&e.to_string()))?;
         let mut config = surface
             .get_default_config(&adapter, w, h)
             .ok_or_else(|| JsError::new("viewer: the canvas surface is not supported"))?;
