@@ -302,6 +302,59 @@ mod model {
         HairModel::load_dir(&common::root().join("models/onnx")).expect("bundled hair models")
     }
 
+    /// `deeprep hair reconstruct` is the library's `HairJob`: the CLI's
+    /// float32 strands are the job's, bit for bit, and the summary says so.
+    #[test]
+    fn the_cli_reconstruction_is_the_hair_job() {
+        use deeprep::hair::{HairInput, HairJob, TestHair};
+        let tmp = std::env::temp_dir().join(format!("deeprep-hair-cli-{}", std::process::id()));
+        std::fs::create_dir_all(&tmp).unwrap();
+        let out = tmp.join("s.f32");
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_deeprep"))
+            .args([
+                "hair",
+                "reconstruct",
+                "--class",
+                "m-curly",
+                "--seed",
+                "3",
+                "--yaw",
+                "20",
+            ])
+            .args(["--strands", "300", "--out", out.to_str().unwrap()])
+            .current_dir(common::root())
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let summary: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(summary["strands"], 300);
+        let bytes = std::fs::read(&out).unwrap();
+        let job = HairJob {
+            input: HairInput::Test {
+                hair: TestHair::named("M-curly", 3).unwrap(),
+                yaw_deg: 20.0,
+            },
+            reconstruct: Reconstruct {
+                strands: 300,
+                ..Default::default()
+            },
+        };
+        let r = job.run(&model(), &Body::default()).unwrap();
+        let want: Vec<u8> = r
+            .strands
+            .points
+            .iter()
+            .flat_map(|p| p.iter().flat_map(|v| v.to_le_bytes()))
+            .collect();
+        assert_eq!(bytes, want);
+        let e = summary["collision_error"].as_f64().unwrap();
+        assert!(
+            (e - r.collision_error as f64).abs() <= 1e-6 * (1.0 + e.abs()),
+            "{e}"
+        );
+        let _ = std::fs::remove_dir_all(&tmp);
+    }
+
     /// tract matches onnxruntime on both graphs, and the Rust decoding reads
     /// the strand heads' output layout as the export wrote it.
     #[test]

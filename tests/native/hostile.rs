@@ -357,6 +357,15 @@ fn cli_sizes_from_arguments_are_errors() {
     let keys = root.join("models/examples/keys.json");
     let models = root.join("models/onnx");
     let huge = "18446744073709551615";
+    // PPM headers that ask for more than the file holds: errors before any
+    // allocation sized by them
+    let obj = tmp.join("hair.obj").to_str().unwrap().to_string();
+    let huge_ppm = tmp.join("huge.ppm");
+    std::fs::write(&huge_ppm, b"P6\n99999999 99999999\n255\n\x01\x02").unwrap();
+    let huge_ppm = huge_ppm.to_str().unwrap().to_string();
+    let short_ppm = tmp.join("short.ppm");
+    std::fs::write(&short_ppm, b"P6\n256 256\n255\n\x01\x02\x03").unwrap();
+    let short_ppm = short_ppm.to_str().unwrap().to_string();
     let cases: Vec<Vec<&str>> = vec![
         vec!["bvh", "fk", clip, "--frame", huge],
         vec!["bvh", "fk", clip, "--frame", "1"],
@@ -383,6 +392,22 @@ fn cli_sizes_from_arguments_are_errors() {
         vec!["hair", "dataset", "--out", &out, "--size", "100000"],
         vec![
             "hair", "preview", "--class", "M-curly", "--size", huge, "--out", &out,
+        ],
+        vec!["hair", "reconstruct", "--strands", huge, "--out", &obj],
+        vec!["hair", "reconstruct", "--strands", "0", "--out", &obj],
+        vec!["hair", "reconstruct", "--class", "Medium", "--out", &obj],
+        vec!["hair", "reconstruct", "--out", &out],
+        vec!["hair", "reconstruct", "--image", &huge_ppm, "--out", &obj],
+        vec!["hair", "reconstruct", "--image", &short_ppm, "--out", &obj],
+        vec![
+            "hair",
+            "reconstruct",
+            "--image",
+            &short_ppm,
+            "--class",
+            "M-curly",
+            "--out",
+            &obj,
         ],
     ];
     for args in cases {

@@ -16,6 +16,8 @@
 //!   segmentation) from a view, with per-sample visibility for eq. 3.2.
 //! - [`gpu`]: the strand MLPs as a WGSL compute shader, checked against the CPU.
 //! - [`model`]: the exported network run by tract, and the reconstruction.
+//! - [`job`]: one reconstruction as the CLI, wasm and the page describe it
+//!   (a seeded test hair or an image, and the settings).
 //! - [`upsample`]: bilinear interpolation of strand features on the scalp
 //!   grid to any number of strands (Sec. 3.2.4, Fig. 3.4).
 //!
@@ -27,6 +29,7 @@ pub mod dataset;
 pub mod generator;
 #[cfg(all(feature = "gpu", feature = "onnx"))]
 pub mod gpu;
+pub mod job;
 #[cfg(feature = "onnx")]
 pub mod model;
 pub mod orientation;
@@ -37,6 +40,9 @@ pub mod upsample;
 
 pub use body::{Body, Ellipsoid};
 pub use generator::{Curl, Hair, HairClass, Length, Style};
+pub use job::{HairInput, TestHair};
+#[cfg(feature = "onnx")]
+pub use job::{HairJob, HairResult};
 #[cfg(feature = "onnx")]
 pub use model::{blend_features, HairModel, Reconstruct, StrandDecoding, Strands};
 pub use render::{render, Render, View, MAX_IMAGE_SIZE};

@@ -39,38 +39,21 @@ impl HairLab {
     /// as the network's 3 × 256 × 256 input; `testHair` gives its strands.
     #[wasm_bindgen(js_name = testImage)]
     pub fn test_image(&self, class: &str, seed: u32, yaw_deg: f32) -> Result<Vec<f32>, JsError> {
-        let h = self.test_hair_inner(class, seed)?;
-        let view = crate::hair::View {
-            yaw: yaw_deg.to_radians(),
-            noise: 0.1,
-            ..Default::default()
+        let job = crate::hair::HairJob {
+            input: crate::hair::HairInput::Test {
+                hair: crate::hair::TestHair::named(class, seed as u64).map_err(js_err)?,
+                yaw_deg,
+            },
+            reconstruct: Default::default(),
         };
-        let mut rng = crate::rng::Rng::new(seed as u64 ^ 0x5eed);
-        let r = crate::hair::render(&h.points, &self.body, &view, 256, &mut rng).map_err(js_err)?;
-        Ok(r.image)
+        job.image(&self.body).map_err(js_err)
     }
 
     /// The same procedural hair's strands (1024 × 100 × 3, absolute metres).
     #[wasm_bindgen(js_name = testHair)]
     pub fn test_hair(&self, class: &str, seed: u32) -> Result<Vec<f32>, JsError> {
-        Ok(flat3(&self.test_hair_inner(class, seed)?.points))
-    }
-
-    fn test_hair_inner(&self, class: &str, seed: u32) -> Result<crate::hair::Hair, JsError> {
-        let c = crate::hair::HairClass::all()
-            .into_iter()
-            .find(|c| c.name() == class)
-            .ok_or_else(|| JsError::new(&format!("unknown hair class '{class}'")))?;
-        let mut rng = crate::rng::Rng::new(seed as u64);
-        let style = crate::hair::Style::random(c, &mut rng);
-        crate::hair::Hair::generate(
-            &style,
-            &crate::hair::Scalp::default(),
-            &self.body,
-            crate::hair::GRID,
-            &mut rng,
-        )
-        .map_err(js_err)
+        let hair = crate::hair::TestHair::named(class, seed as u64).map_err(js_err)?;
+        Ok(flat3(&hair.hair(&self.body).map_err(js_err)?.points))
     }
 
     /// The network input (3 × 256 × 256) from a photo (Sec. 3.2.1): `grey`

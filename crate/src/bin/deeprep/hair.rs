@@ -1,5 +1,7 @@
-//! `deeprep hair dataset` and `deeprep hair preview`: HairNet's procedural
-//! training data (ch. 3).
+//! `deeprep hair dataset`, `deeprep hair preview` and `deeprep hair
+//! reconstruct`: HairNet's procedural training data and its reconstruction
+//! (ch. 3), over `deeprep::hair` (the reconstruction is a `hair::HairJob`,
+//! as in the wasm `HairLab` and the hair page).
 
 use super::args::{options, parse_opt, CliError};
 use super::USAGE;
@@ -9,60 +11,200 @@ pub fn preview(rest: &[&str]) -> Result<(), CliError> {
     Ok(hair_preview(rest)?)
 }
 
+/// `deeprep hair reconstruct ...`.
+pub fn reconstruct(rest: &[&str]) -> Result<(), CliError> {
+    Ok(hair_reconstruct(rest)?)
+}
+
 /// `deeprep hair dataset ...`.
 pub fn dataset(rest: &[&str]) -> Result<(), CliError> {
     Ok(hair_dataset(rest)?)
 }
 
-fn hair_class(name: &str) -> Result<deeprep::hair::HairClass, String> {
-    deeprep::hair::HairClass::all()
-        .into_iter()
-        .find(|c| c.name().eq_ignore_ascii_case(name))
-        .ok_or_else(|| {
-            let all: Vec<String> = deeprep::hair::HairClass::all()
-                .iter()
-                .map(|c| c.name())
-                .collect();
-            format!("unknown hair class '{name}'; classes: {}", all.join(", "))
-        })
-}
-
 fn hair_preview(rest: &[&str]) -> Result<(), String> {
     use deeprep::hair::*;
     let o = options(rest, &["class", "seed", "yaw", "size", "out"])?;
-    let class = hair_class(o.get("class").copied().unwrap_or("M-wavy"))?;
-    let seed: u64 = parse_opt(&o, "seed", 1)?;
+    let hair = TestHair::named(
+        o.get("class").copied().unwrap_or("M-wavy"),
+        parse_opt(&o, "seed", 1)?,
+    )
+    .map_err(|e| e.to_string())?;
     let yaw: f32 = parse_opt(&o, "yaw", 0.0)?;
     let size: usize = parse_opt(&o, "size", 256)?;
     let out = o
         .get("out")
         .ok_or_else(|| format!("--out FILE.ppm is required\n{USAGE}"))?;
-    let mut rng = deeprep::rng::Rng::new(seed);
-    let style = Style::random(class, &mut rng);
-    let (body, scalp) = (Body::default(), Scalp::default());
-    let hair = Hair::generate(&style, &scalp, &body, GRID, &mut rng).map_err(|e| e.to_string())?;
-    let view = View {
-        yaw: yaw.to_radians(),
-        noise: 0.0,
-        ..Default::default()
-    };
-    let r = render(&hair.points, &body, &view, size, &mut rng).map_err(|e| e.to_string())?;
+    let body = Body::default();
+    let r = hair
+        .render(&body, yaw, 0.0, size)
+        .map_err(|e| e.to_string())?;
+    std::fs::write(out, ppm_of(&r.image, size)).map_err(|e| format!("{out}: {e}"))?;
+    let vis = r.visible.iter().filter(|&&v| v).count();
+    eprintln!(
+        "{} (seed {}): {} of {} samples visible; wrote {out}",
+        hair.class.name(),
+        hair.seed,
+        vis,
+        r.visible.len()
+    );
+    Ok(())
+}
+
+/// A 3 × size × size image in [0, 1] as binary PPM (channels as RGB).
+fn ppm_of(image: &[f32], size: usize) -> Vec<u8> {
     let plane = size * size;
     let mut ppm = format!("P6\n{size} {size}\n255\n").into_bytes();
     for i in 0..plane {
         for c in 0..3 {
-            ppm.push((r.image[c * plane + i] * 255.0).round() as u8);
+            ppm.push((image[c * plane + i].clamp(0.0, 1.0) * 255.0).round() as u8);
         }
     }
-    std::fs::write(out, ppm).map_err(|e| format!("{out}: {e}"))?;
-    let vis = r.visible.iter().filter(|&&v| v).count();
-    eprintln!(
-        "{}: {:?}; {} of {} samples visible; wrote {out}",
-        class.name(),
-        style,
-        vis,
-        r.visible.len()
-    );
+    ppm
+}
+
+/// The network input from a 256 × 256 binary PPM such as `hair preview`
+/// writes (orientation in red and green, segmentation in blue).
+fn image_of_ppm(path: &str) -> Result<Vec<f32>, String> {
+    const SIDE: usize = 256;
+    let bytes = std::fs::read(path).map_err(|e| format!("{path}: {e}"))?;
+    // header: "P6", width, height, maxval, each after whitespace; then one byte
+    let mut fields = Vec::new();
+    let mut i = 0;
+    while fields.len() < 4 {
+        while i < bytes.len() && bytes[i].is_ascii_whitespace() {
+            i += 1;
+        }
+        if i < bytes.len() && bytes[i] == b'#' {
+            while i < bytes.len() && bytes[i] != b'\n' {
+                i += 1;
+            }
+            continue;
+        }
+        let s = i;
+        while i < bytes.len() && !bytes[i].is_ascii_whitespace() && i - s < 16 {
+            i += 1;
+        }
+        if s == i {
+            return Err(format!("{path}: not a binary PPM (P6) image"));
+        }
+        fields.push(String::from_utf8_lossy(&bytes[s..i]).to_string());
+    }
+    if fields[0] != "P6" || fields[3] != "255" {
+        return Err(format!(
+            "{path}: expected a binary PPM (P6) with maxval 255, found '{}' and maxval '{}'",
+            fields[0], fields[3]
+        ));
+    }
+    if fields[1] != SIDE.to_string() || fields[2] != SIDE.to_string() {
+        return Err(format!(
+            "{path}: HairNet takes a {SIDE} x {SIDE} orientation image, found {} x {}",
+            fields[1], fields[2]
+        ));
+    }
+    let data = &bytes[(i + 1).min(bytes.len())..];
+    let plane = SIDE * SIDE;
+    if data.len() != 3 * plane {
+        return Err(format!(
+            "{path}: {SIDE} x {SIDE} RGB needs {} pixel bytes, found {}",
+            3 * plane,
+            data.len()
+        ));
+    }
+    let mut image = vec![0.0f32; 3 * plane];
+    for (p, px) in data.chunks_exact(3).enumerate() {
+        for c in 0..3 {
+            image[c * plane + p] = px[c] as f32 / 255.0;
+        }
+    }
+    Ok(image)
+}
+
+fn hair_reconstruct(rest: &[&str]) -> Result<(), String> {
+    use deeprep::hair::*;
+    let o = options(
+        rest,
+        &[
+            "class", "seed", "yaw", "image", "strands", "smooth", "curl", "models", "out",
+        ],
+    )?;
+    let out = o
+        .get("out")
+        .ok_or_else(|| format!("--out FILE.obj|FILE.f32 is required\n{USAGE}"))?;
+    let format_obj = if out.ends_with(".obj") {
+        true
+    } else if out.ends_with(".f32") {
+        false
+    } else {
+        return Err(format!(
+            "--out {out}: write .obj (polylines) or .f32 (strands x 100 x 3 float32)"
+        ));
+    };
+    let input = match (o.get("image"), o.get("class")) {
+        (Some(_), Some(_)) => return Err("give --image or --class, not both".into()),
+        (Some(path), None) => {
+            for k in ["seed", "yaw"] {
+                if o.contains_key(k) {
+                    return Err(format!("--{k} is for --class test hairs, not --image"));
+                }
+            }
+            HairInput::Image(image_of_ppm(path)?)
+        }
+        (None, class) => HairInput::Test {
+            hair: TestHair::named(
+                class.copied().unwrap_or("M-wavy"),
+                parse_opt(&o, "seed", 1)?,
+            )
+            .map_err(|e| e.to_string())?,
+            yaw_deg: parse_opt(&o, "yaw", 0.0)?,
+        },
+    };
+    let d = Reconstruct::default();
+    let job = HairJob {
+        input,
+        reconstruct: Reconstruct {
+            strands: parse_opt(&o, "strands", d.strands)?,
+            smooth_sigma: parse_opt(&o, "smooth", d.smooth_sigma)?,
+            curl_threshold: parse_opt(&o, "curl", d.curl_threshold)?,
+        },
+    };
+    let dir = std::path::PathBuf::from(o.get("models").copied().unwrap_or("models/onnx"));
+    let model = HairModel::load_dir(&dir).map_err(|e| e.to_string())?;
+    let t0 = std::time::Instant::now();
+    let r = job
+        .run(&model, &Body::default())
+        .map_err(|e| e.to_string())?;
+    let ms = t0.elapsed().as_secs_f64() * 1e3;
+    let bytes = if format_obj {
+        let mut s = String::with_capacity(r.strands.points.len() * 28);
+        s.push_str("# deeprep hair reconstruct: one polyline per strand, metres\n");
+        for p in &r.strands.points {
+            s.push_str(&format!("v {} {} {}\n", p[0], p[1], p[2]));
+        }
+        for k in 0..r.strands.points.len() / POINTS {
+            s.push('l');
+            for i in 0..POINTS {
+                s.push_str(&format!(" {}", k * POINTS + i + 1));
+            }
+            s.push('\n');
+        }
+        s.into_bytes()
+    } else {
+        r.strands
+            .points
+            .iter()
+            .flat_map(|p| p.iter().flat_map(|v| v.to_le_bytes()))
+            .collect()
+    };
+    std::fs::write(out, bytes).map_err(|e| format!("{out}: {e}"))?;
+    let summary = serde_json::json!({
+        "strands": r.strands.points.len() / POINTS,
+        "points_per_strand": POINTS,
+        "curled": r.strands.curled,
+        "collision_error": r.collision_error,
+        "ms": ms,
+        "out": out,
+    });
+    super::args::emit(&format!("{summary}\n"));
     Ok(())
 }
 

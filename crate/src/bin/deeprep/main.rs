@@ -80,7 +80,15 @@ const USAGE: &str = "usage:
       x 3, root-relative metres), PREFIX.curvature.f32 (hairs x 1024 x 100, 1/m),
       PREFIX.images.u8 (renders x 3 x S x S) and PREFIX.visible.u8 (renders x 1024 x 100)
   deeprep hair preview --class M-curly [--seed S] [--yaw DEG] [--size S] --out FILE.ppm
-      one procedural hair's render (orientation as red/green, segmentation as blue)";
+      one procedural hair's render (orientation as red/green, segmentation as blue)
+  deeprep hair reconstruct [--class M-curly [--seed S] [--yaw DEG] | --image FILE.ppm]
+          [--strands N] [--smooth S] [--curl T] [--models DIR] --out FILE.obj|FILE.f32
+      HairNet's reconstruction (Sec. 3.2.4) of a procedural test hair (the hair page's
+      class and seed) or a 256 x 256 orientation image (as `hair preview` writes): N
+      strands (default 30000) upsampled from the 32 x 32 features, smoothed (S samples,
+      default 1.5), curls restored above T 1/m (default 15; inf: never). Writes OBJ
+      polylines or float32 strands x 100 x 3 (metres); prints a JSON summary with the
+      collision error (eq. 3.3)";
 
 /// One command: the words that name it and what runs the rest of the
 /// arguments. Its usage is the entry of [`USAGE`] that starts with
@@ -134,6 +142,10 @@ const COMMANDS: &[Command] = &[
     Command {
         words: &["hair", "preview"],
         run: hair::preview,
+    },
+    Command {
+        words: &["hair", "reconstruct"],
+        run: hair::reconstruct,
     },
 ];
 
