@@ -306,7 +306,7 @@ def fk(skel, root, rot, offsets):
     of the rotating joints [B,N,K,3,3]; joints without channels keep the
     identity. offsets [B,J,3]."""
     B, N = root.shape[:2]
-    eye = torch.eye(3).expand(B, N, 3, 3)
+    eye = torch.eye(3, device=root.device).expand(B, N, 3, 3)
     G, P = [], []
     for j, p in enumerate(skel.parents):
         loc = rot[:, :, skel.slot[j]] if skel.slot[j] >= 0 else eye
@@ -387,7 +387,7 @@ def spectral_l1(a, b, n_fft=64, hop=16):
     """Mean L1 between the short-time magnitude spectra of a and b
     [B,N,J,3] along N, in the signals' units (magnitudes over n_fft/2)."""
     B, N = a.shape[:2]
-    win = torch.hann_window(n_fft)
+    win = torch.hann_window(n_fft, device=a.device)
 
     def mag(x):
         x = x.reshape(B, N, -1).transpose(1, 2).reshape(-1, N)
@@ -403,36 +403,41 @@ def train(args):
     d = np.load(args.data)
     skel = Skeleton(d)
     clips = Clips(d, "train")
+    dev = torch.device(args.device)
     net = ResidualTween(skel.K, args.width, args.dilations)
     ema = ResidualTween(skel.K, args.width, args.dilations)
     ema.load_state_dict(net.state_dict())
-    opt = torch.optim.Adam(net.parameters(), lr=args.lr)
-    step = 0
+    step, opt_state = 0, None
     os.makedirs(args.out, exist_ok=True)
     ck = os.path.join(args.out, "ckpt.pt")
     if args.resume and os.path.exists(ck):
-        s = torch.load(ck)
+        s = torch.load(ck, map_location="cpu")
         added = grow(net, s["net"], args.dilations)
         grow(ema, s["ema"], args.dilations)
-        if not added:
-            opt.load_state_dict(s["opt"])
+        opt_state = None if added else s["opt"]
         step = s["step"]
         rng = np.random.default_rng(args.seed + step)
         print(f"resumed {ck} at step {step}" + (f", {len(added)} new tensors (fresh optimizer)" if added else ""),
               flush=True)
     elif args.resume and os.path.exists(PORTABLE):
-        s = torch.load(PORTABLE)
+        s = torch.load(PORTABLE, map_location="cpu")
         grow(net, s["net"], args.dilations)
         grow(ema, s["ema"], args.dilations)
         step = s["step"]
         rng = np.random.default_rng(args.seed + step)
         print(f"resumed {PORTABLE} at step {step} (fresh optimizer state)", flush=True)
+    net.to(dev)
+    ema.to(dev)
+    opt = torch.optim.Adam(net.parameters(), lr=args.lr)
+    if opt_state is not None:
+        opt.load_state_dict(opt_state)  # moves the state to the parameters' device
     for g in opt.param_groups:
         g["lr"] = args.lr
+    print(f"device: {dev}", flush=True)
     print(f"parameters: {sum(p.numel() for p in net.parameters()):,}", flush=True)
     w = {"pos": 1.0, "rot": 0.5, "root": 1.0, "vel": 1.0, "speed": args.speed_weight, "foot": args.foot_weight,
          "l2p": args.l2p_weight, "spectral": args.spectral_weight}
-    skel.inv_sd = torch.from_numpy(1.0 / l2p_stats()[1]).float()
+    skel.inv_sd = torch.from_numpy(1.0 / l2p_sd()).float().to(dev)
     log = open(os.path.join(args.out, "log.jsonl"), "a")
     t0, last = time.time(), time.time()
     acc = {}
@@ -445,6 +450,7 @@ def train(args):
 
     while time.time() - t0 < args.minutes * 60:
         batch, _ = make_batch(clips, skel, args.batch, args.frames, rng, args.mirror)
+        batch = [x.to(dev, non_blocking=True) for x in batch]
         out = losses(net, skel, batch, w)
         opt.zero_grad()
         out["total"].backward()
@@ -489,7 +495,7 @@ def evaluate(args):
     # coordinate's spread in training windows (the mean cancels); heights
     # weigh about 7x the horizontal coordinates. The canonical frame turns
     # x/z about the vertical, which the nearly equal x and z spreads ignore.
-    inv_sd = torch.from_numpy(1.0 / l2p_stats()[1]).float()
+    inv_sd = torch.from_numpy(1.0 / l2p_sd()).float()
     net = None
     if args.ckpt:
         s = torch.load(args.ckpt)
@@ -633,13 +639,30 @@ def pick(args):
 
 
 def portable(args):
-    """The running checkpoint's weights and moving average in float16."""
-    s = torch.load(args.ckpt or os.path.join(args.out, "ckpt.pt"))
+    """The running checkpoint's weights and moving average in float16, to
+    train/checkpoints/tween_resid.pt (or --to)."""
+    s = torch.load(args.ckpt or os.path.join(args.out, "ckpt.pt"), map_location="cpu")
     half = {k: {n: v.half() for n, v in s[k].items()} for k in ("net", "ema")}
-    os.makedirs(os.path.dirname(PORTABLE), exist_ok=True)
+    to = args.to or PORTABLE
+    os.makedirs(os.path.dirname(os.path.abspath(to)), exist_ok=True)
     torch.save({**half, "step": s["step"], "width": s["width"], "K": s["K"],
-                "dilations": list(s.get("dilations", DILATIONS))}, PORTABLE)
-    print(f"wrote {PORTABLE} (step {s['step']}, {os.path.getsize(PORTABLE) / 1e6:.1f} MB)")
+                "dilations": list(s.get("dilations", DILATIONS))}, to)
+    print(f"wrote {to} (step {s['step']}, {os.path.getsize(to) / 1e6:.1f} MB)")
+
+
+L2P_SD = os.path.join(CACHE, "l2p_sd.npy")
+
+
+def l2p_sd():
+    """The per-coordinate spread L2P divides by (motion.eval.l2p_stats), from
+    train/cache/l2p_sd.npy when present (written on first use), so a machine
+    with only resid60.npz (the GPU job) can train with the L2P loss."""
+    if os.path.exists(L2P_SD):
+        return np.load(L2P_SD)
+    sd = l2p_stats()[1]
+    os.makedirs(CACHE, exist_ok=True)
+    np.save(L2P_SD, sd)
+    return sd
 
 
 def main():
@@ -650,6 +673,8 @@ def main():
     ap.add_argument("--out", default=OUT)
     ap.add_argument("--minutes", type=float, default=60)
     ap.add_argument("--threads", type=int, default=1)
+    ap.add_argument("--device", default="cpu", help="torch device for training (cuda on a lent GPU)")
+    ap.add_argument("--to", help="portable: where to write (default train/checkpoints/tween_resid.pt)")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--width", type=int, default=192)
     ap.add_argument("--batch", type=int, default=8)
