@@ -184,10 +184,40 @@ def make_batch(data, b, n, rng, fk, gaps="uniform", base="linear"):
             torch.stack(root), torch.stack(rc), keysets)
 
 
-def train_path(data, minutes, log, rng, config, decay=False):
+def mirror_joints(names):
+    """Each joint's left/right counterpart (itself on the midline): l*/r* and
+    left*/right* prefixes swapped."""
+    idx = {n: i for i, n in enumerate(names)}
+
+    def other(n):
+        for a, b in (("left", "right"), ("right", "left"), ("l", "r"), ("r", "l")):
+            if n.startswith(a) and n[len(a):len(a) + 1].isupper():
+                return b + n[len(a):]
+        return n
+    return [idx.get(other(n), i) for i, n in enumerate(names)]
+
+
+def augment_path_window(local, vel, rng, mirror_map):
+    """Issue 19's data augmentation for the path predictor, which maps
+    root-relative joint positions (world axes) to root velocity: the same
+    window turned about the vertical axis by a random angle and, half the
+    time, mirrored left/right (x -> -x, joints swapped). Both are exact
+    symmetries of the mapping. local [N, J, 3], vel [N, 3]."""
+    t = rng.uniform(0, 2 * math.pi)
+    c, s = math.cos(t), math.sin(t)
+    r = torch.tensor([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]], dtype=local.dtype)
+    if rng.random() < 0.5:
+        flip = torch.tensor([-1.0, 1.0, 1.0], dtype=local.dtype)
+        local, vel = local[:, mirror_map] * flip, vel * flip
+    return local @ r.T, vel @ r.T
+
+
+def train_path(data, minutes, log, rng, config, decay=False, augment=False):
     """Trains the path predictor on ground-truth windows of 256 frames, batch 8,
-    Adam at 1e-3 (cosine-decayed to 1e-5 over the budget when decay)."""
+    Adam at 1e-3 (cosine-decayed to 1e-5 over the budget when decay); with
+    augment, each window turned about the vertical and mirrored at random."""
     net = PathPredictor(len(data.joints) * 3, **config)
+    mirror_map = mirror_joints(data.joints)
     opt = torch.optim.Adam(net.parameters(), lr=1e-3)
     t0, step = time.time(), 0
     while time.time() - t0 < minutes * 60:
@@ -198,10 +228,13 @@ def train_path(data, minutes, log, rng, config, decay=False):
         xs, vs = [], []
         for _ in range(8):
             sl = data.window(256, rng)
-            xs.append(data.local[sl].reshape(256, -1).T / SCALE)
+            lo = data.local[sl]
             r = data.root[sl]
             v = torch.zeros_like(r)
             v[:-1] = r[1:] - r[:-1]
+            if augment:
+                lo, v = augment_path_window(lo, v, rng, mirror_map)
+            xs.append(lo.reshape(256, -1).T / SCALE)
             vs.append(v.T / SCALE)
         x, v = torch.stack(xs), torch.stack(vs)
         loss = path_loss(net(x), v)
@@ -246,6 +279,10 @@ def main():
     ap.add_argument("--path-dilations", default="1,2,3", help="dilations the path predictor's layers cycle through")
     ap.add_argument("--path-decay", action="store_true", help="cosine-decay the path predictor's learning rate")
     ap.add_argument("--path-ckpt", default=None, help="reuse a trained path predictor (path.pt) instead of training one")
+    ap.add_argument("--path-augment", action="store_true",
+                    help="train the path predictor on windows turned about the vertical and mirrored at random (issue 19)")
+    ap.add_argument("--path-only", action="store_true",
+                    help="train and evaluate the path predictor (path.pt, Table 5.2 on train and val windows), then stop")
     ap.add_argument("--gen-minutes", type=float, default=50)
     ap.add_argument("--frames", type=int, default=512)
     ap.add_argument("--batch", type=int, default=4)
@@ -322,9 +359,18 @@ def main():
     else:
         path_config = {"width": args.path_width, "layers": args.path_layers,
                        "dilations": [int(x) for x in args.path_dilations.split(",")]}
-        path, psteps = train_path(data, args.path_minutes, log, rng, path_config, args.path_decay)
+        path, psteps = train_path(data, args.path_minutes, log, rng, path_config, args.path_decay,
+                                  args.path_augment)
     table = path_table(path, val, np.random.default_rng(1))
     log({"stage": "path_eval_val", "steps": psteps, **table})
+    if args.path_only:
+        # windows of the training takes, for choosing settings without the validation takes
+        train_table = path_table(path, data, np.random.default_rng(1))
+        log({"stage": "path_eval_train", "steps": psteps, **train_table})
+        torch.save({"model": path.state_dict(), "steps": psteps, "table_5_2_val": table,
+                    "table_5_2_train": train_table, "config": path_config,
+                    "augment": bool(args.path_augment)}, os.path.join(out, "path.pt"))
+        return
     for p in path.parameters():
         p.requires_grad_(False)
     torch.save({"model": path.state_dict(), "steps": psteps, "table_5_2_val": table, "config": path_config},
