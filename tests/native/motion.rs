@@ -1239,3 +1239,65 @@ fn dna_fixture_shared_with_the_training_code() {
     let want: Vec<Vec<usize>> = serde_json::from_value(doc["picks"].clone()).unwrap();
     assert_eq!(picks, want);
 }
+
+/// `Motion::pose` is what the motion's BVH reads back as: its FK and local
+/// tracks match the BVH's (the wasm result builds positions from it without
+/// the Euler round trip).
+#[test]
+fn a_motions_pose_is_its_bvh_row() {
+    use deeprep::skeleton::{fk, Pose};
+    let m: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(root().join("models/onnx/tween_generator.manifest.json")).unwrap(),
+    )
+    .unwrap();
+    let tpl = Bvh::parse(m["skeleton_bvh"].as_str().unwrap()).unwrap();
+    let mut rng = Rng::new(7);
+    let n = 5;
+    let motion = Motion {
+        root: (0..n)
+            .map(|f| [f as f64, 90.0 + rng.uniform(), -(f as f64)])
+            .collect(),
+        rotations: (0..n)
+            .map(|_| {
+                (0..tpl.joints.len())
+                    .map(|_| {
+                        let r: Mat3<f32> = uniform_so3(&mut rng);
+                        r.map(|row| row.map(|v| v as f64))
+                    })
+                    .collect()
+            })
+            .collect(),
+    };
+    let bvh = motion.to_bvh(&tpl, 1.0 / 60.0).unwrap();
+    let want = fk::positions(&bvh, 0, n).unwrap();
+    let tracks = fk::local_tracks(&bvh);
+    let mut got = Vec::new();
+    let mut got_tracks = fk::LocalTracks::with_capacity(n, tpl.joints.len());
+    for f in 0..n {
+        let p: Pose = motion.pose(&tpl, f);
+        got.extend(
+            p.global(&tpl)
+                .positions
+                .iter()
+                .flat_map(|v| [v.x as f32, v.y as f32, v.z as f32]),
+        );
+        got_tracks.push(&p);
+    }
+    let max = |a: &[f32], b: &[f32]| {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0f32, f32::max)
+    };
+    assert!(max(&got, &want) < 1e-3, "positions {}", max(&got, &want));
+    assert!(max(&got_tracks.translations, &tracks.translations) < 1e-4);
+    // quaternions up to sign
+    for (a, b) in got_tracks
+        .quaternions
+        .chunks(4)
+        .zip(tracks.quaternions.chunks(4))
+    {
+        let dot: f32 = a.iter().zip(b).map(|(x, y)| x * y).sum();
+        assert!(dot.abs() > 1.0 - 1e-5, "{a:?} vs {b:?}");
+    }
+}

@@ -256,6 +256,42 @@ impl Motion {
         self.root.is_empty()
     }
 
+    /// Frame `f` on `template`'s skeleton as the [`Pose`] its BVH row
+    /// ([`Motion::to_bvh`]) reads back as, without the Euler round trip:
+    /// the root at its position, other joints at their offsets, and joints
+    /// without three rotation channels (which their row cannot turn) at the
+    /// identity. `f` must be a frame of the motion and the motion have the
+    /// template's joints.
+    pub fn pose(&self, template: &Bvh, f: usize) -> crate::skeleton::Pose {
+        use crate::skeleton::pose::rotation_order;
+        let translations = template
+            .joints
+            .iter()
+            .enumerate()
+            .map(|(j, joint)| {
+                if j == 0 {
+                    glam::DVec3::from(self.root[f])
+                } else {
+                    glam::DVec3::new(
+                        joint.offset[0] as f64,
+                        joint.offset[1] as f64,
+                        joint.offset[2] as f64,
+                    )
+                }
+            })
+            .collect();
+        let rotations = (0..template.joints.len())
+            .map(|j| match rotation_order(template, j) {
+                Some(_) => crate::rotation::to_glam_f64(&self.rotations[f][j]),
+                None => glam::DMat3::IDENTITY,
+            })
+            .collect();
+        crate::skeleton::Pose {
+            translations,
+            rotations,
+        }
+    }
+
     /// Writes the motion as BVH channels on `template`'s skeleton (its
     /// channel orders; root position channels get `root − offset`).
     pub fn to_bvh(&self, template: &Bvh, frame_time: f64) -> Result<Bvh> {

@@ -68,22 +68,32 @@ pub struct LocalTracks {
     pub quaternions: Vec<f32>,
 }
 
-/// The local tracks of every frame of `bvh`.
-pub fn local_tracks(bvh: &Bvh) -> LocalTracks {
-    let (n, j) = (bvh.frame_count(), bvh.joints.len());
-    let mut out = LocalTracks {
-        translations: Vec::with_capacity(n * j * 3),
-        quaternions: Vec::with_capacity(n * j * 4),
-    };
-    for f in 0..n {
-        let pose = Pose::read(bvh, bvh.frame(f));
+impl LocalTracks {
+    /// Empty tracks with room for `frames` frames of `joints` joints.
+    pub fn with_capacity(frames: usize, joints: usize) -> LocalTracks {
+        LocalTracks {
+            translations: Vec::with_capacity(frames * joints * 3),
+            quaternions: Vec::with_capacity(frames * joints * 4),
+        }
+    }
+
+    /// Appends one frame.
+    pub fn push(&mut self, pose: &Pose) {
         for (t, r) in pose.translations.iter().zip(&pose.rotations) {
-            out.translations
+            self.translations
                 .extend_from_slice(&[t.x as f32, t.y as f32, t.z as f32]);
             let q = glam::DQuat::from_mat3(r).normalize();
-            out.quaternions
+            self.quaternions
                 .extend_from_slice(&[q.x as f32, q.y as f32, q.z as f32, q.w as f32]);
         }
+    }
+}
+
+/// The local tracks of every frame of `bvh`.
+pub fn local_tracks(bvh: &Bvh) -> LocalTracks {
+    let mut out = LocalTracks::with_capacity(bvh.frame_count(), bvh.joints.len());
+    for f in 0..bvh.frame_count() {
+        out.push(&Pose::read(bvh, bvh.frame(f)));
     }
     out
 }

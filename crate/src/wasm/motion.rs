@@ -182,7 +182,28 @@ fn result_from(
     key_error: Vec<f64>,
 ) -> Result<InbetweenResult, JsError> {
     let bvh = motion.to_bvh(template, 1.0 / 60.0).map_err(js_err)?;
-    InbetweenResult::new(&bvh, times, key_error)
+    // positions and tracks from the motion's own matrices: the BVH's FK
+    // without turning its Euler angles back into matrices
+    let (n, joints) = (motion.len(), template.joints.len());
+    let mut positions = Vec::with_capacity(n * joints * 3);
+    let mut tracks = crate::skeleton::fk::LocalTracks::with_capacity(n, joints);
+    for f in 0..n {
+        let pose = motion.pose(template, f);
+        for p in pose.global(template).positions {
+            positions.extend_from_slice(&[p.x as f32, p.y as f32, p.z as f32]);
+        }
+        tracks.push(&pose);
+    }
+    Ok(InbetweenResult {
+        bvh: bvh.write(),
+        positions,
+        frames: n,
+        frame_time: bvh.frame_time,
+        tracks,
+        times,
+        key_error,
+        critical_frames: Vec::new(),
+    })
 }
 
 #[wasm_bindgen]
