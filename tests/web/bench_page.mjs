@@ -1,7 +1,8 @@
 // In-betweening benchmark in headless Chromium (wasm, one thread): time per
 // stage for 512, 1024, 2048 and 4096 frames, and the SLERP+LERP baseline on
 // the same keys; the first call and the best total again with the models
-// prepared for any length (Inbetweener.prepareAnyLength, as the npm worker). Prints JSON. Usage: node tests/web/bench_page.mjs [--smoke]
+// prepared for any length (Inbetweener.prepareAnyLength, as the npm worker), and the default pipeline
+// for whole-pose keys (the residual network, setResidual, as the npm worker loads it). Prints JSON. Usage: node tests/web/bench_page.mjs [--smoke]
 import { withBenchPage } from './chromium.mjs';
 
 const smoke = process.argv.includes('--smoke');
@@ -16,6 +17,12 @@ await withBenchPage(async (page) => {
     const anyLength = new m.Inbetweener(await get('../models/onnx/tween_generator.onnx'), await get('../models/onnx/tween_path.onnx'),
       await fetch('../models/onnx/tween_generator.manifest.json').then((r) => r.text()));
     anyLength.prepareAnyLength();
+    // the default for whole-pose keys: the residual network (as the npm worker loads it)
+    const withResidual = new m.Inbetweener(await get('../models/onnx/tween_generator.onnx'), await get('../models/onnx/tween_path.onnx'),
+      await fetch('../models/onnx/tween_generator.manifest.json').then((r) => r.text()));
+    withResidual.setResidual(await get('../models/onnx/tween_residual.onnx'),
+      await fetch('../models/onnx/tween_residual.manifest.json').then((r) => r.text()));
+    const residualDefault = withResidual.residualIsDefault;
     const poses = (await fetch('../models/examples/poses.json').then((r) => r.json())).poses;
     const out = [];
     for (const n of sizes) {
@@ -42,11 +49,22 @@ await withBenchPage(async (page) => {
         anyLength.synthesize(kf, kc, n, { post: true }).free();
         anyBest = Math.min(anyBest, performance.now() - t);
       }
+      // the default pipeline (residual network for whole-pose keys, keys exact), best of reps after a first call
+      withResidual.synthesize(kf, kc, n, { post: true }).free();
+      let resBest = Infinity, resNet = null;
+      for (let r = 0; r < reps; r++) {
+        t = performance.now();
+        const res = withResidual.synthesize(kf, kc, n, { post: true });
+        const total = performance.now() - t;
+        if (total < resBest) { resBest = total; resNet = res.times[0]; }
+        res.free();
+      }
       t = performance.now();
       model.interpolate(kf, kc, n).free();
       const slerp = performance.now() - t;
       out.push({ frames: n, generator_ms: best[0], rcfk_ms: best[1], path_ms: best[2], post_ms: best[3], total_ms: bestTotal, first_call_ms: first, slerp_lerp_ms_with_bvh_and_fk: slerp,
-                 any_length_first_call_ms: anyFirst, any_length_total_ms: anyBest });
+                 any_length_first_call_ms: anyFirst, any_length_total_ms: anyBest,
+                 default_is_residual: residualDefault, residual_total_ms: resBest, residual_network_ms: resNet });
     }
     return out;
   }, { sizes, reps: smoke ? 1 : 3 });

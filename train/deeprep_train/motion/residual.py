@@ -414,7 +414,7 @@ def train(args):
         s = torch.load(ck, map_location="cpu")
         added = grow(net, s["net"], args.dilations)
         grow(ema, s["ema"], args.dilations)
-        opt_state = None if added else s["opt"]
+        opt_state = None if added else s.get("opt")
         step = s["step"]
         rng = np.random.default_rng(args.seed + step)
         print(f"resumed {ck} at step {step}" + (f", {len(added)} new tensors (fresh optimizer)" if added else ""),
@@ -650,6 +650,43 @@ def portable(args):
     print(f"wrote {to} (step {s['step']}, {os.path.getsize(to) / 1e6:.1f} MB)")
 
 
+def prune(args):
+    """A narrower network from a trained one (issue 23: the residual network
+    is most of the default pipeline's time, which grows with width²): keeps
+    the `--width` residual-stream channels with the largest weights into and
+    out of the stream, and in each block the `--width` hidden channels with
+    the largest c1-out x c2-in weights; writes DIR/ckpt.pt (no optimizer
+    state) for `train --resume --out DIR --width W` to fine-tune."""
+    s = torch.load(args.ckpt or PORTABLE, map_location="cpu")
+    w = args.width
+    out = {"step": s["step"], "width": w, "K": s["K"], "dilations": list(s.get("dilations", DILATIONS)),
+           "pruned_from": {"ckpt": args.ckpt or PORTABLE, "width": s["width"], "step": s["step"]}}
+    for part in ("net", "ema"):
+        p = {k: v.float() for k, v in s[part].items()}
+        blocks = sorted({int(k.split(".")[1]) for k in p if k.startswith("blocks.")})
+        # residual stream: what writes it (inp, each c2) and reads it (each c1, out)
+        score = p["inp.weight"].pow(2).sum((1, 2)) + p["out.weight"].pow(2).sum((0, 2))
+        for b in blocks:
+            score += p[f"blocks.{b}.c2.weight"].pow(2).sum((1, 2)) + p[f"blocks.{b}.c1.weight"].pow(2).sum((0, 2))
+        keep = torch.argsort(score, descending=True)[:w].sort().values
+        q = {"inp.weight": p["inp.weight"][keep], "inp.bias": p["inp.bias"][keep],
+             "out.weight": p["out.weight"][:, keep], "out.bias": p["out.bias"]}
+        for b in blocks:
+            c1w, c1b = p[f"blocks.{b}.c1.weight"], p[f"blocks.{b}.c1.bias"]
+            c2w, c2b = p[f"blocks.{b}.c2.weight"], p[f"blocks.{b}.c2.bias"]
+            h = (c1w.pow(2).sum((1, 2)) * c2w.pow(2).sum((0, 2))).sqrt()
+            hk = torch.argsort(h, descending=True)[:w].sort().values
+            q[f"blocks.{b}.c1.weight"] = c1w[hk][:, keep]
+            q[f"blocks.{b}.c1.bias"] = c1b[hk]
+            q[f"blocks.{b}.c2.weight"] = c2w[keep][:, hk]
+            q[f"blocks.{b}.c2.bias"] = c2b[keep]
+        out[part] = q
+    os.makedirs(args.out, exist_ok=True)
+    torch.save(out, os.path.join(args.out, "ckpt.pt"))
+    n = sum(v.numel() for v in out["net"].values())
+    print(f"pruned width {s['width']} -> {w} at step {s['step']}: {n:,} parameters -> {args.out}/ckpt.pt")
+
+
 L2P_SD = os.path.join(CACHE, "l2p_sd.npy")
 
 
@@ -667,7 +704,7 @@ def l2p_sd():
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("cmd", choices=["prepare", "train", "eval", "portable", "export", "pick"])
+    ap.add_argument("cmd", choices=["prepare", "train", "eval", "portable", "export", "pick", "prune"])
     ap.add_argument("results", nargs="*", help="pick: eval --json files of the candidates")
     ap.add_argument("--data", default=os.path.join(CACHE, "resid60.npz"))
     ap.add_argument("--out", default=OUT)
@@ -708,6 +745,8 @@ def main():
         export(args)
     elif args.cmd == "pick":
         pick(args)
+    elif args.cmd == "prune":
+        prune(args)
     else:
         evaluate(args)
 
