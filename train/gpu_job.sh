@@ -20,7 +20,7 @@
 #                      the CPU, or score it with `residual eval --ckpt`)
 #        log.jsonl     the losses every 50 steps
 #
-# Settings (environment): MINUTES (default 8, inside the 10-minute limit
+# The width is the committed checkpoint's. Settings (environment): MINUTES (default 8, inside the 10-minute limit
 # with start-up and the write-back), BATCH (64), DEVICE (cuda), and the loss
 # weights of run G. Try it on the CPU first:
 #   OUT=/tmp/gpu_try DEVICE=cpu MINUTES=0.2 BATCH=2 bash train/gpu_job.sh

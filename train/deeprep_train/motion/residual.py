@@ -404,12 +404,20 @@ def train(args):
     skel = Skeleton(d)
     clips = Clips(d, "train")
     dev = torch.device(args.device)
+    ck = os.path.join(args.out, "ckpt.pt")
+    if args.resume:
+        # a resumed run keeps its checkpoint's width (e.g. a pruned network)
+        src = ck if os.path.exists(ck) else PORTABLE if os.path.exists(PORTABLE) else None
+        if src is not None:
+            w = torch.load(src, map_location="cpu")["width"]
+            if w != args.width:
+                print(f"{src} has width {w}: training at {w}, not --width {args.width}", flush=True)
+                args.width = w
     net = ResidualTween(skel.K, args.width, args.dilations)
     ema = ResidualTween(skel.K, args.width, args.dilations)
     ema.load_state_dict(net.state_dict())
     step, opt_state = 0, None
     os.makedirs(args.out, exist_ok=True)
-    ck = os.path.join(args.out, "ckpt.pt")
     if args.resume and os.path.exists(ck):
         s = torch.load(ck, map_location="cpu")
         added = grow(net, s["net"], args.dilations)
