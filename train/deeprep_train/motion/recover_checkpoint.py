@@ -18,6 +18,7 @@ path.pt.
 import argparse
 import json
 import os
+import re
 import sys
 
 import numpy as np
@@ -53,6 +54,12 @@ def load_onnx_weights(model, m, path):
                 and n.input[1] in init:
             t = init[n.input[1]]
             got[scope_path(n.name) + ".weight"] = t.T if n.op_type == "MatMul" else t
+        # PReLU as export/fast_prelu.py writes it: Sub(a, 1) named after the
+        # PRelu node it replaced ("/enc.1/act/PRelu_12_slope1")
+        if n.op_type == "Sub" and len(n.input) == 2 and n.input[1] == "prelu_one" and n.input[0] in init:
+            m_ = re.fullmatch(r"(.*)_\d+_slope1", n.output[0])
+            if m_:
+                got[scope_path(m_.group(1)) + ".weight"] = init[n.input[0]]
     missing = [k for k in sd if k not in got]
     if missing:
         sys.exit(f"{path}: no initializer for {missing}")
@@ -86,7 +93,8 @@ def main(argv=None):
     gen = Generator(P, fk.output_dim, skips=skips)
     load_onnx_weights(gen, gm, gpath)
     eg = check(gen, "tween_generator")
-    path = PathPredictor(P)
+    path_config = pman["training"].get("config", {})  # written by motion/export.py since session 13
+    path = PathPredictor(P, **path_config)
     load_onnx_weights(path, onnx.load(ppath), ppath)
     ep = check(path, "tween_path")
     os.makedirs(out, exist_ok=True)
@@ -95,7 +103,7 @@ def main(argv=None):
     torch.save({"G": gen.state_dict(), "steps": steps, "args": args, "weights": gman["training"]["loss_weights"]},
                os.path.join(out, "gen.pt"))
     torch.save({"model": path.state_dict(), "steps": pman["training"]["steps"],
-                "table_5_2_val": pman["training"].get("table_5_2_validation"), "config": {}},
+                "table_5_2_val": pman["training"].get("table_5_2_validation"), "config": path_config},
                os.path.join(out, "path.pt"))
     print(f"{out}: gen.pt ({steps} steps, skips {skips}, base {args['base']}, fixture error {eg:.2g}), "
           f"path.pt (fixture error {ep:.2g})")
