@@ -407,7 +407,7 @@ def train(args):
     ck = os.path.join(args.out, "ckpt.pt")
     if args.resume:
         # a resumed run keeps its checkpoint's width (e.g. a pruned network)
-        src = ck if os.path.exists(ck) else PORTABLE if os.path.exists(PORTABLE) else None
+        src = ck if os.path.exists(ck) else args.portable if os.path.exists(args.portable) else None
         if src is not None:
             w = torch.load(src, map_location="cpu")["width"]
             if w != args.width:
@@ -427,13 +427,13 @@ def train(args):
         rng = np.random.default_rng(args.seed + step)
         print(f"resumed {ck} at step {step}" + (f", {len(added)} new tensors (fresh optimizer)" if added else ""),
               flush=True)
-    elif args.resume and os.path.exists(PORTABLE):
-        s = torch.load(PORTABLE, map_location="cpu")
+    elif args.resume and os.path.exists(args.portable):
+        s = torch.load(args.portable, map_location="cpu")
         grow(net, s["net"], args.dilations)
         grow(ema, s["ema"], args.dilations)
         step = s["step"]
         rng = np.random.default_rng(args.seed + step)
-        print(f"resumed {PORTABLE} at step {step} (fresh optimizer state)", flush=True)
+        print(f"resumed {args.portable} at step {step} (fresh optimizer state)", flush=True)
     net.to(dev)
     ema.to(dev)
     opt = torch.optim.Adam(net.parameters(), lr=args.lr)
@@ -736,6 +736,9 @@ def main():
     ap.add_argument("--dilations", type=lambda s: tuple(int(x) for x in s.split(",")), default=DILATIONS,
                     help="one residual block per dilation; resuming with more than saved appends identity blocks")
     ap.add_argument("--resume", action="store_true")
+    ap.add_argument("--portable", default=PORTABLE,
+                    help="train --resume without a checkpoint in --out starts from this float16 file "
+                         "(default train/checkpoints/tween_resid.pt; the pruned one: train/checkpoints/tween_resid_w128.pt)")
     ap.add_argument("--save-every", type=int, default=250)
     ap.add_argument("--snapshot-every", type=int, default=1000)
     ap.add_argument("--split", default="train")
