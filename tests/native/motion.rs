@@ -1240,12 +1240,12 @@ fn dna_fixture_shared_with_the_training_code() {
     assert_eq!(picks, want);
 }
 
-/// `Motion::pose` is what the motion's BVH reads back as: its FK and local
+/// `Motion::poses` are what the motion's BVH reads back as: its FK and local
 /// tracks match the BVH's (the wasm result builds positions from it without
 /// the Euler round trip).
 #[test]
 fn a_motions_pose_is_its_bvh_row() {
-    use deeprep::skeleton::{fk, Pose};
+    use deeprep::skeleton::fk;
     let m: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(root().join("models/onnx/tween_generator.manifest.json")).unwrap(),
     )
@@ -1273,8 +1273,7 @@ fn a_motions_pose_is_its_bvh_row() {
     let tracks = fk::local_tracks(&bvh);
     let mut got = Vec::new();
     let mut got_tracks = fk::LocalTracks::with_capacity(n, tpl.joints.len());
-    for f in 0..n {
-        let p: Pose = motion.pose(&tpl, f);
+    for p in motion.poses(&tpl).unwrap() {
         got.extend(
             p.global(&tpl)
                 .positions

@@ -256,73 +256,60 @@ impl Motion {
         self.root.is_empty()
     }
 
-    /// Frame `f` on `template`'s skeleton as the [`Pose`] its BVH row
+    /// Every frame on `template`'s skeleton as the [`Pose`] its BVH row
     /// ([`Motion::to_bvh`]) reads back as, without the Euler round trip:
     /// the root at its position, other joints at their offsets, and joints
     /// without three rotation channels (which their row cannot turn) at the
-    /// identity. `f` must be a frame of the motion and the motion have the
-    /// template's joints.
-    pub fn pose(&self, template: &Bvh, f: usize) -> crate::skeleton::Pose {
-        use crate::skeleton::pose::rotation_order;
-        let translations = template
-            .joints
-            .iter()
-            .enumerate()
-            .map(|(j, joint)| {
-                if j == 0 {
-                    glam::DVec3::from(self.root[f])
-                } else {
-                    glam::DVec3::new(
-                        joint.offset[0] as f64,
-                        joint.offset[1] as f64,
-                        joint.offset[2] as f64,
-                    )
-                }
-            })
-            .collect();
-        let rotations = (0..template.joints.len())
-            .map(|j| match rotation_order(template, j) {
-                Some(_) => crate::rotation::to_glam_f64(&self.rotations[f][j]),
-                None => glam::DMat3::IDENTITY,
-            })
-            .collect();
-        crate::skeleton::Pose {
-            translations,
-            rotations,
+    /// identity. Errors when a frame does not have the template's joints.
+    pub fn poses<'a>(
+        &'a self,
+        template: &'a Bvh,
+    ) -> Result<impl Iterator<Item = crate::skeleton::Pose> + 'a> {
+        use crate::skeleton::pose::{offset, rotation_order};
+        let joints = template.joints.len();
+        if let Some(r) = self.rotations.iter().find(|r| r.len() != joints) {
+            return Err(Error::Shape {
+                what: "motion".into(),
+                expected: format!("{joints} joints"),
+                found: format!("{}", r.len()),
+            });
         }
+        let rest: Vec<glam::DVec3> = template.joints.iter().map(offset).collect();
+        let turns: Vec<bool> = (0..joints)
+            .map(|j| rotation_order(template, j).is_some())
+            .collect();
+        Ok((0..self.len()).map(move |f| {
+            let mut translations = rest.clone();
+            if let Some(t) = translations.first_mut() {
+                *t = glam::DVec3::from(self.root[f]);
+            }
+            let rotations = self.rotations[f]
+                .iter()
+                .zip(&turns)
+                .map(|(r, &turns)| {
+                    if turns {
+                        crate::rotation::to_glam_f64(r)
+                    } else {
+                        glam::DMat3::IDENTITY
+                    }
+                })
+                .collect();
+            crate::skeleton::Pose {
+                translations,
+                rotations,
+            }
+        }))
     }
 
     /// Writes the motion as BVH channels on `template`'s skeleton (its
     /// channel orders; root position channels get `root − offset`).
     pub fn to_bvh(&self, template: &Bvh, frame_time: f64) -> Result<Bvh> {
-        let joints = template.joints.len();
-        if self.rotations.first().is_some_and(|r| r.len() != joints) {
-            return Err(Error::Shape {
-                what: "motion".into(),
-                expected: format!("{joints} joints"),
-                found: format!("{}", self.rotations[0].len()),
-            });
-        }
         let mut out = template.clone();
         out.frame_time = frame_time;
         let c = template.channel_count();
-        out.motion = vec![0.0; c * self.len()];
-        let offsets: Vec<glam::DVec3> = template
-            .joints
-            .iter()
-            .map(|j| glam::DVec3::new(j.offset[0] as f64, j.offset[1] as f64, j.offset[2] as f64))
-            .collect();
-        for f in 0..self.len() {
-            let mut translations = offsets.clone();
-            translations[0] = glam::DVec3::from(self.root[f]);
-            let pose = crate::skeleton::Pose {
-                translations,
-                rotations: self.rotations[f]
-                    .iter()
-                    .map(crate::rotation::to_glam_f64)
-                    .collect(),
-            };
-            out.motion[f * c..(f + 1) * c].copy_from_slice(&pose.to_row(template)?);
+        out.motion = Vec::with_capacity(c * self.len());
+        for pose in self.poses(template)? {
+            out.motion.extend(pose.to_row(template)?);
         }
         Ok(out)
     }

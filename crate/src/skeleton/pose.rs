@@ -56,6 +56,15 @@ pub fn rotation_order(bvh: &Bvh, joint: usize) -> Option<EulerOrder> {
         .flatten()
 }
 
+/// A joint's offset from its parent, in double precision.
+pub fn offset(joint: &super::bvh::Joint) -> DVec3 {
+    DVec3::new(
+        joint.offset[0] as f64,
+        joint.offset[1] as f64,
+        joint.offset[2] as f64,
+    )
+}
+
 impl Pose {
     /// Reads a channel row of `bvh`'s skeleton. Errors when the row's length
     /// is not the skeleton's channel count or a value is not finite.
@@ -94,7 +103,7 @@ impl Pose {
         let mut rotations = Vec::with_capacity(n);
         for j in &bvh.joints {
             let vals = &row[j.channel_start..j.channel_start + j.channels.len()];
-            let mut t = DVec3::new(j.offset[0] as f64, j.offset[1] as f64, j.offset[2] as f64);
+            let mut t = offset(j);
             for (c, v) in j.channels.iter().zip(vals) {
                 if !c.is_rotation() {
                     t[c.axis()] += *v as f64;

@@ -81,21 +81,33 @@ pub struct InbetweenResult {
 }
 
 impl InbetweenResult {
+    /// The result of a motion `b` (written as BVH) whose frames are `poses`:
+    /// positions by FK and the local tracks, in one pass.
     fn new(
         b: &crate::skeleton::Bvh,
+        poses: impl Iterator<Item = crate::skeleton::Pose>,
         times: Vec<f64>,
         key_error: Vec<f64>,
-    ) -> Result<InbetweenResult, JsError> {
-        Ok(InbetweenResult {
+    ) -> InbetweenResult {
+        let (n, joints) = (b.frame_count(), b.joints.len());
+        let mut positions = Vec::with_capacity(n * joints * 3);
+        let mut tracks = crate::skeleton::fk::LocalTracks::with_capacity(n, joints);
+        for pose in poses {
+            for p in pose.global(b).positions {
+                positions.extend_from_slice(&[p.x as f32, p.y as f32, p.z as f32]);
+            }
+            tracks.push(&pose);
+        }
+        InbetweenResult {
             bvh: b.write(),
-            positions: crate::skeleton::fk::positions(b, 0, b.frame_count()).map_err(js_err)?,
-            frames: b.frame_count(),
+            positions,
+            frames: n,
             frame_time: b.frame_time,
-            tracks: crate::skeleton::fk::local_tracks(b),
+            tracks,
             times,
             key_error,
             critical_frames: Vec::new(),
-        })
+        }
     }
 }
 
@@ -184,26 +196,8 @@ fn result_from(
     let bvh = motion.to_bvh(template, 1.0 / 60.0).map_err(js_err)?;
     // positions and tracks from the motion's own matrices: the BVH's FK
     // without turning its Euler angles back into matrices
-    let (n, joints) = (motion.len(), template.joints.len());
-    let mut positions = Vec::with_capacity(n * joints * 3);
-    let mut tracks = crate::skeleton::fk::LocalTracks::with_capacity(n, joints);
-    for f in 0..n {
-        let pose = motion.pose(template, f);
-        for p in pose.global(template).positions {
-            positions.extend_from_slice(&[p.x as f32, p.y as f32, p.z as f32]);
-        }
-        tracks.push(&pose);
-    }
-    Ok(InbetweenResult {
-        bvh: bvh.write(),
-        positions,
-        frames: n,
-        frame_time: bvh.frame_time,
-        tracks,
-        times,
-        key_error,
-        critical_frames: Vec::new(),
-    })
+    let poses = motion.poses(template).map_err(js_err)?;
+    Ok(InbetweenResult::new(&bvh, poses, times, key_error))
 }
 
 #[wasm_bindgen]
@@ -269,10 +263,7 @@ impl Inbetweener {
         frames: usize,
         options: Option<SynthesizeOptions>,
     ) -> Result<InbetweenResult, JsError> {
-        let opts = match &options {
-            Some(o) => Options::read(o)?,
-            None => Options::read(&JsValue::UNDEFINED)?,
-        };
+        let opts = Options::read(options.as_deref().unwrap_or(&JsValue::UNDEFINED))?;
         let keys = keys_from_channels(&self.inner.template, key_frames, key_channels)?;
         let dna = if opts.dna.is_empty() {
             None
@@ -381,7 +372,8 @@ impl Inbetweener {
             }
         };
         let out = clip::splice(&b, &ck, &motion).map_err(js_err)?;
-        InbetweenResult::new(&out, times, key_error)
+        let poses = (0..out.frame_count()).map(|f| crate::skeleton::Pose::read(&out, out.frame(f)));
+        Ok(InbetweenResult::new(&out, poses, times, key_error))
     }
 
     /// Adds the supervised residual network (the bytes of
