@@ -405,35 +405,29 @@ def train(args):
     clips = Clips(d, "train")
     dev = torch.device(args.device)
     ck = os.path.join(args.out, "ckpt.pt")
+    # what --resume starts from: the run's own checkpoint (with its optimizer
+    # state), else the committed float16 one; read once
+    src = None
     if args.resume:
-        # a resumed run keeps its checkpoint's width (e.g. a pruned network)
         src = ck if os.path.exists(ck) else args.portable if os.path.exists(args.portable) else None
-        if src is not None:
-            w = torch.load(src, map_location="cpu")["width"]
-            if w != args.width:
-                print(f"{src} has width {w}: training at {w}, not --width {args.width}", flush=True)
-                args.width = w
+    s = torch.load(src, map_location="cpu") if src else None
+    if s is not None and s["width"] != args.width:
+        # a resumed run keeps its checkpoint's width (e.g. a pruned network)
+        print(f"{src} has width {s['width']}: training at {s['width']}, not --width {args.width}", flush=True)
+        args.width = s["width"]
     net = ResidualTween(skel.K, args.width, args.dilations)
     ema = ResidualTween(skel.K, args.width, args.dilations)
     ema.load_state_dict(net.state_dict())
     step, opt_state = 0, None
     os.makedirs(args.out, exist_ok=True)
-    if args.resume and os.path.exists(ck):
-        s = torch.load(ck, map_location="cpu")
+    if s is not None:
         added = grow(net, s["net"], args.dilations)
         grow(ema, s["ema"], args.dilations)
         opt_state = None if added else s.get("opt")
         step = s["step"]
         rng = np.random.default_rng(args.seed + step)
-        print(f"resumed {ck} at step {step}" + (f", {len(added)} new tensors (fresh optimizer)" if added else ""),
-              flush=True)
-    elif args.resume and os.path.exists(args.portable):
-        s = torch.load(args.portable, map_location="cpu")
-        grow(net, s["net"], args.dilations)
-        grow(ema, s["ema"], args.dilations)
-        step = s["step"]
-        rng = np.random.default_rng(args.seed + step)
-        print(f"resumed {args.portable} at step {step} (fresh optimizer state)", flush=True)
+        fresh = " (fresh optimizer state)" if opt_state is None else ""
+        print(f"resumed {src} at step {step}" + (f", {len(added)} new tensors" if added else "") + fresh, flush=True)
     net.to(dev)
     ema.to(dev)
     opt = torch.optim.Adam(net.parameters(), lr=args.lr)
