@@ -118,3 +118,18 @@ def mat_to_quat(m):
     z = np.copysign(np.sqrt(np.clip(1 - m[..., 0, 0] - m[..., 1, 1] + m[..., 2, 2], 0, None)) / 2, m[..., 1, 0] - m[..., 0, 1])
     q = np.stack([w, x, y, z], -1)
     return q / np.linalg.norm(q, axis=-1, keepdims=True)
+
+
+def mirror_joints(names):
+    """Each joint's left/right counterpart by name (itself on the midline):
+    "left"/"right" and l/r prefixes before a capital swapped. The map a
+    left/right mirror (x -> -x) of a pose applies to its joints."""
+    def other(n):
+        for a, b in (("left", "right"), ("right", "left")):
+            if n.startswith(a):
+                return b + n[len(a):]
+        if n[:1] in "lr" and n[1:2].isupper():
+            return ("r" if n[0] == "l" else "l") + n[1:]
+        return n
+    idx = {n: i for i, n in enumerate(names)}
+    return [idx.get(other(n), i) for i, n in enumerate(names)]

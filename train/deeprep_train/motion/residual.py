@@ -38,7 +38,7 @@ import torch.nn.functional as F
 
 from deeprep_train.paths import ROOT, CACHE  # noqa: E402
 from deeprep_train.motion.data import DATA, TRUE_FPS, VALIDATION, floor_segments, runs, take_of, MIN_SEGMENT  # noqa: E402
-from deeprep_train.bvh import fk_from_local, local_fk, mat_to_quat, read_bvh  # noqa: E402
+from deeprep_train.bvh import fk_from_local, local_fk, mat_to_quat, mirror_joints, read_bvh  # noqa: E402
 from deeprep_train.motion.eval import l2p_stats, npss  # noqa: E402
 from deeprep_train.rotation import matrix_to_6d, quat_to_matrix, sixd_to_matrix  # noqa: E402
 
@@ -103,17 +103,9 @@ class Skeleton:
         self.K = len(self.rotating)
         slot = {j: i for i, j in enumerate(self.rotating)}
         self.slot = [slot.get(j, -1) for j in range(len(self.names))]
-        # left/right mirror: joint order map and the mirrored offsets
-        def other(n):
-            for a, b in (("left", "right"), ("right", "left")):
-                if n.startswith(a):
-                    return b + n[len(a):]
-            if n[:1] in "lr" and n[1:2].isupper():
-                return ("r" if n[0] == "l" else "l") + n[1:]
-            return n
-        idx = {n: i for i, n in enumerate(self.names)}
         self.feet = [i for i, n in enumerate(self.names) if "Foot" in n or "Toe" in n]
-        self.mirror_joint = [idx.get(other(n), i) for i, n in enumerate(self.names)]
+        # left/right mirror: joint order map and the mirrored offsets
+        self.mirror_joint = mirror_joints(self.names)
         self.mirror_slot = [slot[self.mirror_joint[j]] for j in self.rotating]
         m = torch.tensor([-1.0, 1.0, 1.0])
         self.mirror_offsets = self.offsets[self.mirror_joint] * m

@@ -19,6 +19,7 @@ import time
 import numpy as np
 import torch
 
+from deeprep_train.bvh import mirror_joints  # noqa: E402
 from deeprep_train.motion.dna import representative_frames  # noqa: E402
 from deeprep_train.rcfk import RCFK  # noqa: E402
 from deeprep_train.rotation import sixd_to_matrix  # noqa: E402
@@ -182,19 +183,6 @@ def make_batch(data, b, n, rng, fk, gaps="uniform", base="linear"):
     dense_rot[:, :R] = base_channels(rpose, rmask, base).transpose(1, 2)
     return (dense_input(pose, mask, n), dense_rot, mask, torch.stack(dna), torch.stack(local),
             torch.stack(root), torch.stack(rc), keysets)
-
-
-def mirror_joints(names):
-    """Each joint's left/right counterpart (itself on the midline): l*/r* and
-    left*/right* prefixes swapped."""
-    idx = {n: i for i, n in enumerate(names)}
-
-    def other(n):
-        for a, b in (("left", "right"), ("right", "left"), ("l", "r"), ("r", "l")):
-            if n.startswith(a) and n[len(a):len(a) + 1].isupper():
-                return b + n[len(a):]
-        return n
-    return [idx.get(other(n), i) for i, n in enumerate(names)]
 
 
 def augment_path_window(local, vel, rng, mirror_map):
