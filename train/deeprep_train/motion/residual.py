@@ -230,7 +230,7 @@ DILATIONS = (1, 2, 4, 8, 16, 32)
 
 def build(s):
     """The network a checkpoint describes (older ones have no "dilations")."""
-    return ResidualTween(s["K"], s["width"], s.get("dilations", DILATIONS))
+    return ResidualTween(s["K"], s["width"], s.get("dilations", DILATIONS), s.get("stride", 1))
 
 
 def grow(net, state, dilations):
@@ -259,22 +259,42 @@ class Block(nn.Module):
         return x + self.c2(F.leaky_relu(self.c1(F.leaky_relu(x, 0.2)), 0.2))
 
 
-class ResidualTween(nn.Module):
-    """[B, 3 + 6K + 4, N] (base root / SCALE, base 6D, phase) -> residual [B, 3 + 6K, N]."""
+def upsample2(h, n):
+    """[B, C, M] at every second frame (frames 0, 2, 4, ...) -> [B, C, n] at
+    every frame, M = ceil(n / 2): even frames as given, odd frames the mean of
+    their two neighbours (the last odd frame, past the last sample, repeats
+    it). Linear interpolation aligned with a stride-2 convolution's samples."""
+    nxt = torch.cat([h[..., 1:], h[..., -1:]], -1)
+    return torch.stack([h, 0.5 * (h + nxt)], -1).flatten(2)[..., :n]
 
-    def __init__(self, K, width=192, dilations=DILATIONS):
+
+class ResidualTween(nn.Module):
+    """[B, 3 + 6K + 4, N] (base root / SCALE, base 6D, phase) -> residual [B, 3 + 6K, N].
+
+    With `stride` 2 (issue 23) the input convolution samples every second
+    frame, the blocks run at 30 fps (each dilation spans twice the time), and
+    their output is interpolated back to every frame before the output
+    convolution: the blocks' arithmetic, most of the network's, halves."""
+
+    def __init__(self, K, width=192, dilations=DILATIONS, stride=1):
         super().__init__()
+        if stride not in (1, 2):
+            raise ValueError(f"stride {stride}: 1 or 2")
         self.K = K
         self.dilations = tuple(dilations)
+        self.stride = stride
         cin = 3 + 6 * K + 4
-        self.inp = nn.Conv1d(cin, width, 3, padding=1)
+        self.inp = nn.Conv1d(cin, width, 3, padding=1, stride=stride)
         self.blocks = nn.Sequential(*[Block(width, d) for d in dilations])
         self.out = nn.Conv1d(width, 3 + 6 * K, 3, padding=1)
         nn.init.zeros_(self.out.weight)
         nn.init.zeros_(self.out.bias)
 
     def forward(self, x):
-        return self.out(F.leaky_relu(self.blocks(self.inp(x)), 0.2))
+        h = self.blocks(self.inp(x))
+        if self.stride == 2:
+            h = upsample2(h, x.shape[-1])
+        return self.out(F.leaky_relu(h, 0.2))
 
 
 def net_input(base_root, base_rot, phase):
@@ -407,8 +427,12 @@ def train(args):
         # a resumed run keeps its checkpoint's width (e.g. a pruned network)
         print(f"{src} has width {s['width']}: training at {s['width']}, not --width {args.width}", flush=True)
         args.width = s["width"]
-    net = ResidualTween(skel.K, args.width, args.dilations)
-    ema = ResidualTween(skel.K, args.width, args.dilations)
+    if args.stride is None:
+        # the checkpoint's stride unless one is asked for (a stride-1 network
+        # resumed with --stride 2 keeps its weights and learns to run at 30 fps)
+        args.stride = s.get("stride", 1) if s is not None else 1
+    net = ResidualTween(skel.K, args.width, args.dilations, args.stride)
+    ema = ResidualTween(skel.K, args.width, args.dilations, args.stride)
     ema.load_state_dict(net.state_dict())
     step, opt_state = 0, None
     os.makedirs(args.out, exist_ok=True)
@@ -438,7 +462,7 @@ def train(args):
 
     def save():
         state = {"net": net.state_dict(), "ema": ema.state_dict(), "opt": opt.state_dict(), "step": step,
-                 "width": args.width, "K": skel.K, "dilations": list(args.dilations)}
+                 "width": args.width, "K": skel.K, "dilations": list(args.dilations), "stride": args.stride}
         torch.save(state, ck + ".tmp")
         os.replace(ck + ".tmp", ck)
 
@@ -468,7 +492,7 @@ def train(args):
             save()
             if step % args.snapshot_every == 0:
                 torch.save({"ema": ema.state_dict(), "step": step, "width": args.width, "K": skel.K,
-                            "dilations": list(args.dilations)},
+                            "dilations": list(args.dilations), "stride": args.stride},
                            os.path.join(args.out, f"gen_{step}.pt"))
     save()
     print(f"done at step {step}", flush=True)
@@ -558,9 +582,10 @@ def export(args):
     cin = 3 + 6 * skel.K + 4
     path = os.path.join(ONNX_DIR, "tween_residual.onnx")
     # the fixture's input: a real window's features (first training segment,
-    # 64 frames, keys at 0, 30 and 63), so outputs are in their usual range
+    # 65 frames, keys at 0, 30 and 64: an odd length, which a stride-2
+    # network pads), so outputs are in their usual range
     clips = Clips(d, "train")
-    f = features(clips.root[:64], clips.quat[:64], [0, 30, 63])
+    f = features(clips.root[:65], clips.quat[:65], [0, 30, 64])
     x = net_input(f[0].unsqueeze(0), f[1].unsqueeze(0), f[4].unsqueeze(0))
     torch.onnx.export(net, (x,), path, input_names=["x"], output_names=["residual"], opset_version=17,
                       dynamic_axes={"x": {2: "frames"}, "residual": {2: "frames"}}, dynamo=False)
@@ -582,7 +607,7 @@ def export(args):
         "rotating": skel.rotating,
         "skeleton_bvh": gen_manifest["skeleton_bvh"],
         "training": {"steps": int(s["step"]), "width": int(s["width"]),
-                     "dilations": list(net.dilations), "checkpoint": os.path.relpath(args.ckpt, ROOT)},
+                     "dilations": list(net.dilations), "stride": net.stride, "checkpoint": os.path.relpath(args.ckpt, ROOT)},
         "parity_torch_vs_onnxruntime": parity,
         "training_data": "CMU train takes at 60 fps (59,290 frames, train/deeprep_train/motion/data.py's split and floor filter), mirrored",
         "training_code_commit": git_commit(),
@@ -640,7 +665,7 @@ def portable(args):
     to = args.to or PORTABLE
     os.makedirs(os.path.dirname(os.path.abspath(to)), exist_ok=True)
     torch.save({**half, "step": s["step"], "width": s["width"], "K": s["K"],
-                "dilations": list(s.get("dilations", DILATIONS))}, to)
+                "dilations": list(s.get("dilations", DILATIONS)), "stride": s.get("stride", 1)}, to)
     print(f"wrote {to} (step {s['step']}, {os.path.getsize(to) / 1e6:.1f} MB)")
 
 
@@ -654,6 +679,7 @@ def prune(args):
     s = torch.load(args.ckpt or PORTABLE, map_location="cpu")
     w = args.width
     out = {"step": s["step"], "width": w, "K": s["K"], "dilations": list(s.get("dilations", DILATIONS)),
+           "stride": s.get("stride", 1),
            "pruned_from": {"ckpt": args.ckpt or PORTABLE, "width": s["width"], "step": s["step"]}}
     for part in ("net", "ema"):
         p = {k: v.float() for k, v in s[part].items()}
@@ -721,6 +747,9 @@ def main():
                     help="weight of the short-time spectrum loss on root-relative positions (NPSS's view)")
     ap.add_argument("--dilations", type=lambda s: tuple(int(x) for x in s.split(",")), default=DILATIONS,
                     help="one residual block per dilation; resuming with more than saved appends identity blocks")
+    ap.add_argument("--stride", type=int, choices=[1, 2],
+                    help="train: 2 runs the blocks at every second frame (half their arithmetic; issue 23); "
+                         "default: the resumed checkpoint's, else 1")
     ap.add_argument("--resume", action="store_true")
     ap.add_argument("--portable", default=PORTABLE,
                     help="train --resume without a checkpoint in --out starts from this float16 file "

@@ -1,0 +1,55 @@
+"""The residual network's stride-2 form (issue 23: its blocks at every
+second frame, train/deeprep_train/motion/residual.py): the interpolation
+back to every frame is aligned with the stride-2 convolution's samples, any
+length (odd or even) comes back at that length, and a stride-2 network is
+the stride-1 network's blocks run on every second frame. Needs torch, so it
+runs in the training venv (`train/.venv/bin/python -m pytest tests/parity`)
+and skips in the test venv."""
+import os
+import sys
+
+import pytest
+
+torch = pytest.importorskip("torch", reason="torch is only in train/.venv (tests never need it)")
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+@pytest.fixture()
+def residual(monkeypatch):
+    monkeypatch.syspath_prepend(os.path.join(ROOT, "train"))
+    for m in [m for m in sys.modules if m.startswith("deeprep_train")]:
+        monkeypatch.delitem(sys.modules, m)
+    from deeprep_train.motion import residual
+    return residual
+
+
+def test_upsampling_keeps_samples_and_averages_between(residual):
+    h = torch.tensor([[[0.0, 2.0, 6.0, 7.0]]])
+    assert residual.upsample2(h, 7).tolist() == [[[0.0, 1.0, 2.0, 4.0, 6.0, 6.5, 7.0]]]
+    # an even length ends past the last sample: it repeats it
+    assert residual.upsample2(h, 8).tolist() == [[[0.0, 1.0, 2.0, 4.0, 6.0, 6.5, 7.0, 7.0]]]
+
+
+@pytest.mark.parametrize("n", [1, 2, 9, 64, 65])
+def test_a_stride_2_network_samples_every_second_frame_and_returns_every_frame(residual, n):
+    torch.manual_seed(0)
+    one = residual.ResidualTween(2, 8, (1, 2), stride=1)
+    two = residual.ResidualTween(2, 8, (1, 2), stride=2)
+    for p in (one.out.weight, one.out.bias):
+        torch.nn.init.normal_(p)  # the output convolution starts at zero
+    two.load_state_dict(one.state_dict())  # the stride adds no weights
+    x = torch.randn(1, 3 + 6 * 2 + 4, n)
+    with torch.no_grad():
+        # the input convolution's samples are the stride-1 one's at frames 0, 2, 4, ...
+        assert torch.allclose(two.inp(x), one.inp(x)[..., ::2], atol=1e-6)
+        h = two.blocks(one.inp(x)[..., ::2])
+        want = one.out(torch.nn.functional.leaky_relu(residual.upsample2(h, n), 0.2))
+        got = two(x)
+    assert got.shape == (1, 3 + 6 * 2, n)
+    assert torch.allclose(got, want, atol=1e-5)
+
+
+def test_the_stride_is_1_or_2(residual):
+    with pytest.raises(ValueError):
+        residual.ResidualTween(2, 8, (1,), stride=3)
