@@ -1,12 +1,16 @@
 //! In-betweening benchmark: time per stage (generator, RC-FK, path,
-//! post-processing) for 512, 1024, 2048 and 4096 frames, against the
-//! SLERP+LERP baseline, printed as JSON beside thesis Table 5.3.
+//! post-processing with foot locking) for 512, 1024, 2048 and 4096 frames,
+//! the residual network (the default for these whole-pose keys, at its
+//! default variation, keys exact, no foot locking as in the page's bench)
+//! when it is exported, and the SLERP+LERP baseline, printed as JSON beside
+//! thesis Table 5.3.
 //!
 //!   cargo bench --bench inbetween                      full run
 //!   DEEPREP_BENCH_SMOKE=1 cargo test --bench inbetween one 512-frame run (CI)
 
 use deeprep::motion::baseline::slerp_lerp;
 use deeprep::motion::pipeline::{Request, TweenModels};
+use deeprep::motion::residual::ResidualModel;
 use deeprep::motion::Keyframe;
 use std::path::Path;
 use std::time::Instant;
@@ -38,6 +42,10 @@ fn main() {
         return;
     }
     let models = TweenModels::load_dir(&dir).expect("models load");
+    let residual = dir
+        .join("tween_residual.onnx")
+        .exists()
+        .then(|| ResidualModel::load_dir(&dir).expect("residual model loads"));
     let sizes: &[usize] = if smoke {
         &[512]
     } else {
@@ -76,9 +84,24 @@ fn main() {
             slerp_lerp(&req.keys, n).expect("baseline");
         }
         let slerp_ms = t.elapsed().as_secs_f64() * 1e3 / reps as f64;
+        // the residual network: first call at this length, then the best of reps
+        let res = residual.as_ref().map(|r| {
+            let v = r.default_variation;
+            let t = Instant::now();
+            r.synthesize(&req.keys, n, v).expect("residual");
+            let first = t.elapsed().as_secs_f64() * 1e3;
+            let mut best = f64::MAX;
+            for _ in 0..reps {
+                let t = Instant::now();
+                r.synthesize(&req.keys, n, v).expect("residual");
+                best = best.min(t.elapsed().as_secs_f64() * 1e3);
+            }
+            format!(", \"residual_ms\": {best:.2}, \"residual_first_call_ms\": {first:.2}")
+        });
         rows.push(format!(
-            "{{\"frames\": {n}, \"generator_ms\": {:.2}, \"rcfk_ms\": {:.2}, \"path_ms\": {:.2}, \"post_ms\": {:.2}, \"total_ms\": {:.2}, \"first_call_ms\": {:.2}, \"slerp_lerp_ms\": {:.3}}}",
-            b.generator_ms, b.rcfk_ms, b.path_ms, b.post_ms, total_best, first_ms, slerp_ms
+            "{{\"frames\": {n}, \"generator_ms\": {:.2}, \"rcfk_ms\": {:.2}, \"path_ms\": {:.2}, \"post_ms\": {:.2}, \"total_ms\": {:.2}, \"first_call_ms\": {:.2}, \"slerp_lerp_ms\": {:.3}{}}}",
+            b.generator_ms, b.rcfk_ms, b.path_ms, b.post_ms, total_best, first_ms, slerp_ms,
+            res.unwrap_or_default()
         ));
     }
     println!(
