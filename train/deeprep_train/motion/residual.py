@@ -8,8 +8,9 @@ continuous representation, ch. 4), scaled by a gate that is zero at keys, so
 keys are exact by construction. Training is supervised only: L1 on global
 joint positions (FK), on the 6D values and on the root, plus an L1 on
 frame-to-frame joint velocities so the motion keeps its speed. This is the
-"supervised stage first" of issue 19; the adversarial stage and Motion DNA
-come on top of it.
+"supervised stage first" of issue 19; `train --gan-weight W [--cross-clip P]`
+adds the adversarial stage (motion/residual_adv.py: an LSGAN discriminator
+and cross-clip keys, Sec. 5.2.5 and 5.2.7). Motion DNA is the generator's.
 
 Data: the CMU clips of ../shared/data read here (train/cache/resid60.npz),
 at 60 fps with motion/data.py's floor filter and take-wise split;
@@ -40,6 +41,7 @@ from deeprep_train.paths import ROOT, CACHE  # noqa: E402
 from deeprep_train.motion.data import DATA, TRUE_FPS, VALIDATION, floor_segments, runs, take_of, MIN_SEGMENT  # noqa: E402
 from deeprep_train.bvh import fk_from_local, local_fk, mat_to_quat, mirror_joints, read_bvh  # noqa: E402
 from deeprep_train.motion.eval import l2p_stats, npss  # noqa: E402
+from deeprep_train.motion.residual_adv import Adversary, cross_clip  # noqa: E402
 from deeprep_train.rotation import matrix_to_6d, quat_to_matrix, sixd_to_matrix  # noqa: E402
 
 OUT = os.path.join(CACHE, "resid")
@@ -333,8 +335,12 @@ def fk(skel, root, rot, offsets):
 
 # ---------------------------------------------------------------- training
 
-def make_batch(clips, skel, b, n, rng, do_mirror):
-    br, bq, gr, gq, ph, gt, offs, keysets = [], [], [], [], [], [], [], []
+def make_batch(clips, skel, b, n, rng, do_mirror, cross_p=0.0):
+    """b windows of n frames with random keys: the stacked features and
+    offsets, the key lists, and which windows have a ground truth (False
+    where `cross_p` spliced in keys from another clip, residual_adv.cross_clip;
+    a cross-clip window keeps the first window's offsets)."""
+    br, bq, gr, gq, ph, gt, offs, keysets, sup = [], [], [], [], [], [], [], [], []
     for _ in range(b):
         root, quat = clips.window(n, rng)
         off = skel.offsets
@@ -342,20 +348,46 @@ def make_batch(clips, skel, b, n, rng, do_mirror):
             root, quat = mirror(root, quat, skel)
             off = skel.mirror_offsets
         keys = sample_keys(n, rng)
+        spliced = False
+        if cross_p > 0:
+            root_b, quat_b = clips.window(n, rng)
+            root, quat, spliced = cross_clip(root, quat, root_b, quat_b, keys, rng, cross_p)
         f = features(root, quat, keys)
         for lst, v in zip((br, bq, gr, gq, ph, gt), f):
             lst.append(v)
         offs.append(off)
         keysets.append(keys)
+        sup.append(not spliced)
     st = [torch.stack(x) for x in (br, bq, gr, gq, ph, gt, offs)]
-    return st, keysets
+    return st, keysets, torch.tensor(sup)
 
 
-def losses(net, skel, batch, w):
+def losses(net, skel, batch, w, sup=None, adv=None):
+    """The training losses. `sup` [B] marks the windows with a ground truth
+    (the supervised terms use only those); `adv` (residual_adv.Adversary)
+    adds the adversarial term on every window. Returns the terms, their
+    weighted "total", and the output's root-relative positions under "_rel"
+    with the truth's (supervised windows) under "_grel", for the
+    discriminator's update."""
     base_root, base_rot, gt_root, gt_rot, phase, gate, offs = batch
-    root, rot = apply(net, base_root, base_rot, phase, gate)
-    pos = fk(skel, root, rot, offs) / SCALE
-    gpos = fk(skel, gt_root, gt_rot, offs) / SCALE
+    root_all, rot_all = apply(net, base_root, base_rot, phase, gate)
+    pos_all = fk(skel, root_all, rot_all, offs) / SCALE
+    extra = {}
+    if adv is not None:
+        extra["gan"] = adv.g_loss(pos_all - pos_all[:, :, :1])
+        extra["_rel"] = (pos_all - pos_all[:, :, :1]).detach()
+    if sup is None:
+        sup = torch.ones(pos_all.shape[0], dtype=torch.bool)
+    S = sup.nonzero().squeeze(1).to(pos_all.device)
+    if len(S) == 0:
+        out = {k: v for k, v in extra.items() if not k.startswith("_")}
+        out["total"] = sum(w[k] * v for k, v in out.items() if w.get(k))
+        return {**out, **{k: v for k, v in extra.items() if k.startswith("_")}}
+    root, rot, pos = root_all[S], rot_all[S], pos_all[S]
+    gt_root, gt_rot = gt_root[S], gt_rot[S]
+    gpos = fk(skel, gt_root, gt_rot, offs[S]) / SCALE
+    if adv is not None:
+        extra["_grel"] = (gpos - gpos[:, :, :1]).detach()
     out = {
         "pos": (pos - gpos).abs().mean(),
         "rot": (sixd(rot) - sixd(gt_rot)).abs().mean(),
@@ -391,8 +423,9 @@ def losses(net, skel, batch, w):
         # windows, hop 16): NPSS compares power spectra of short windows, and
         # an L1 on positions alone lets the output be smoother than the truth
         out["spectral"] = spectral_l1(pos - pos[:, :, :1], gpos - gpos[:, :, :1])
+    out.update({k: v for k, v in extra.items() if not k.startswith("_")})
     out["total"] = sum(w[k] * v for k, v in out.items() if w.get(k))
-    return out
+    return {**out, **{k: v for k, v in extra.items() if k.startswith("_")}}
 
 
 def spectral_l1(a, b, n_fft=64, hop=16):
@@ -411,6 +444,9 @@ def spectral_l1(a, b, n_fft=64, hop=16):
 def train(args):
     torch.set_num_threads(args.threads)
     torch.manual_seed(args.seed)
+    if args.cross_clip > 0 and args.gan_weight <= 0:
+        raise SystemExit("--cross-clip needs --gan-weight > 0: a cross-clip window has no ground truth, "
+                         "only the adversarial loss")
     rng = np.random.default_rng(args.seed)
     d = np.load(args.data)
     skel = Skeleton(d)
@@ -454,8 +490,20 @@ def train(args):
     print(f"device: {dev}", flush=True)
     print(f"parameters: {sum(p.numel() for p in net.parameters()):,}", flush=True)
     w = {"pos": 1.0, "rot": 0.5, "root": 1.0, "vel": 1.0, "speed": args.speed_weight, "foot": args.foot_weight,
-         "l2p": args.l2p_weight, "spectral": args.spectral_weight}
+         "l2p": args.l2p_weight, "spectral": args.spectral_weight, "gan": args.gan_weight}
     skel.inv_sd = torch.from_numpy(1.0 / l2p_sd()).float().to(dev)
+    # the adversarial stage (residual_adv): a discriminator, carried in the checkpoint
+    adv = Adversary(len(skel.parents), args.lr_d, dev) if args.gan_weight > 0 else None
+    if adv is not None and not (s is not None and adv.load(s)):
+        # no discriminator yet: train one against the network as it is first
+        for i in range(args.d_warmup):
+            batch, _, sup = make_batch(clips, skel, args.batch, args.frames, rng, args.mirror, args.cross_clip)
+            batch = [x.to(dev, non_blocking=True) for x in batch]
+            with torch.no_grad():
+                o = losses(net, skel, batch, w, sup, adv)
+            ld = adv.d_step(o["_grel"], o["_rel"]) if "_grel" in o else None
+            if (i + 1) % 50 == 0:
+                print(json.dumps({"d_warmup": i + 1, "D": ld}), flush=True)
     log = open(os.path.join(args.out, "log.jsonl"), "a")
     t0, last = time.time(), time.time()
     acc = {}
@@ -463,17 +511,24 @@ def train(args):
     def save():
         state = {"net": net.state_dict(), "ema": ema.state_dict(), "opt": opt.state_dict(), "step": step,
                  "width": args.width, "K": skel.K, "dilations": list(args.dilations), "stride": args.stride}
+        if adv is not None:
+            state.update(adv.state())
         torch.save(state, ck + ".tmp")
         os.replace(ck + ".tmp", ck)
 
     while time.time() - t0 < args.minutes * 60:
-        batch, _ = make_batch(clips, skel, args.batch, args.frames, rng, args.mirror)
+        batch, _, sup = make_batch(clips, skel, args.batch, args.frames, rng, args.mirror, args.cross_clip)
         batch = [x.to(dev, non_blocking=True) for x in batch]
-        out = losses(net, skel, batch, w)
+        out = losses(net, skel, batch, w, sup, adv)
         opt.zero_grad()
         out["total"].backward()
         torch.nn.utils.clip_grad_norm_(net.parameters(), 1.0)
         opt.step()
+        if adv is not None and "_grel" in out:
+            out["D"] = torch.tensor(adv.d_step(out["_grel"], out["_rel"]))
+        out["supervised"] = sup.float().mean()
+        for k in [k for k in out if k.startswith("_")]:
+            del out[k]
         with torch.no_grad():
             for pe, pn in zip(ema.parameters(), net.parameters()):
                 pe.mul_(args.ema).add_(pn, alpha=1 - args.ema)
@@ -747,6 +802,16 @@ def main():
                     help="weight of the short-time spectrum loss on root-relative positions (NPSS's view)")
     ap.add_argument("--dilations", type=lambda s: tuple(int(x) for x in s.split(",")), default=DILATIONS,
                     help="one residual block per dilation; resuming with more than saved appends identity blocks")
+    ap.add_argument("--gan-weight", type=float, default=0.0,
+                    help="the adversarial stage (residual_adv.py): weight of the network's LSGAN loss; 0 trains "
+                         "with supervision only")
+    ap.add_argument("--cross-clip", type=float, default=0.0,
+                    help="cross-clip keys (Sec. 5.2.7 rule 2): probability scale p; an interval of g >= 180 frames "
+                         "takes its end key from another clip with probability p * g / 300 (such windows get only "
+                         "the adversarial loss)")
+    ap.add_argument("--lr-d", type=float, default=1e-4, help="the discriminator's learning rate (Adam)")
+    ap.add_argument("--d-warmup", type=int, default=300,
+                    help="discriminator-only steps when the checkpoint has no discriminator")
     ap.add_argument("--stride", type=int, choices=[1, 2],
                     help="train: 2 runs the blocks at every second frame (half their arithmetic; issue 23); "
                          "default: the resumed checkpoint's, else 1")
