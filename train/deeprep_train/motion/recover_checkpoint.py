@@ -18,7 +18,6 @@ path.pt.
 import argparse
 import json
 import os
-import re
 import sys
 
 import numpy as np
@@ -27,6 +26,7 @@ import torch
 
 from deeprep_train.rcfk import RCFK  # noqa: E402
 from deeprep_train.motion.nets import Generator, PathPredictor  # noqa: E402
+from deeprep_train.export.fast_prelu import slopes  # noqa: E402
 from deeprep_train.export.util import ONNX_DIR, initializer_arrays  # noqa: E402
 from deeprep_train.motion.train import OUT, Data  # noqa: E402
 
@@ -54,12 +54,10 @@ def load_onnx_weights(model, m, path):
                 and n.input[1] in init:
             t = init[n.input[1]]
             got[scope_path(n.name) + ".weight"] = t.T if n.op_type == "MatMul" else t
-        # PReLU as export/fast_prelu.py writes it: Sub(a, 1) named after the
-        # PRelu node it replaced ("/enc.1/act/PRelu_12_slope1")
-        if n.op_type == "Sub" and len(n.input) == 2 and n.input[1] == "prelu_one" and n.input[0] in init:
-            m_ = re.fullmatch(r"(.*)_\d+_slope1", n.output[0])
-            if m_:
-                got[scope_path(m_.group(1)) + ".weight"] = init[n.input[0]]
+    # PReLUs as export/fast_prelu.py writes them, named after the PRelu node
+    # each replaced ("/enc.1/act/PRelu")
+    for name, a in slopes(m).items():
+        got[scope_path(name) + ".weight"] = torch.from_numpy(a.copy())
     missing = [k for k in sd if k not in got]
     if missing:
         sys.exit(f"{path}: no initializer for {missing}")
