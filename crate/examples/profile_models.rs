@@ -6,8 +6,7 @@
 //!   cargo run --release --example profile_models [--runs N] [--models DIR]
 
 use deeprep::rng::Rng;
-use deeprep::runtime::{Model, TensorF32};
-use std::collections::BTreeMap;
+use deeprep::runtime::{per_op, Model, TensorF32};
 use std::path::Path;
 use std::time::Instant;
 
@@ -124,32 +123,22 @@ fn main() {
             })
             .collect();
         model.run(&tensors).expect("warm-up");
-        let mut per_op: BTreeMap<String, (f64, usize)> = BTreeMap::new();
-        let mut total = 0.0;
+        let mut runs_times = Vec::new();
         let mut best_run = f64::MAX;
         for _ in 0..runs {
             let t0 = clock();
-            let times = model.profile(&tensors, &clock).expect("profile");
+            runs_times.push(model.profile(&tensors, &clock).expect("profile"));
             best_run = best_run.min(clock() - t0);
-            for t in &times {
-                let e = per_op.entry(t.op.clone()).or_default();
-                e.0 += t.ms / runs as f64;
-                e.1 += 1;
-                total += t.ms / runs as f64;
-            }
         }
-        let mut ops: Vec<(String, f64, usize)> = per_op
-            .into_iter()
-            .map(|(op, (ms, n))| (op, ms, n / runs))
-            .collect();
-        ops.sort_by(|a, b| b.1.total_cmp(&a.1));
+        let ops = per_op(&runs_times);
+        let total: f64 = ops.iter().map(|o| o.ms).sum();
         let top: Vec<String> = ops
             .iter()
             .take(6)
-            .map(|(op, ms, n)| {
+            .map(|o| {
                 format!(
-                    "{{\"op\": \"{op}\", \"ms\": {ms:.3}, \"share\": {:.3}, \"nodes\": {n}}}",
-                    ms / total.max(1e-12)
+                    "{{\"op\": \"{}\", \"ms\": {:.3}, \"share\": {:.3}, \"nodes\": {}}}",
+                    o.op, o.ms, o.share, o.nodes
                 )
             })
             .collect();

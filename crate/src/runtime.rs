@@ -33,6 +33,47 @@ pub struct NodeTime {
     pub ms: f64,
 }
 
+/// One operator's share of [`Model::profile`] runs ([`per_op`]).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct OpTime {
+    /// tract's name for the operator.
+    pub op: String,
+    /// Milliseconds per run, all its nodes together.
+    pub ms: f64,
+    /// Its share of the nodes' total time.
+    pub share: f64,
+    /// How many nodes of the plan run it.
+    pub nodes: usize,
+}
+
+/// Sums profiled runs per operator: mean milliseconds per run, share of the
+/// total and node count, slowest first.
+pub fn per_op(runs: &[Vec<NodeTime>]) -> Vec<OpTime> {
+    let n = runs.len().max(1) as f64;
+    let mut acc: Vec<OpTime> = Vec::new();
+    for t in runs.iter().flatten() {
+        match acc.iter_mut().find(|o| o.op == t.op) {
+            Some(o) => {
+                o.ms += t.ms / n;
+                o.nodes += 1;
+            }
+            None => acc.push(OpTime {
+                op: t.op.clone(),
+                ms: t.ms / n,
+                share: 0.0,
+                nodes: 1,
+            }),
+        }
+    }
+    let total: f64 = acc.iter().map(|o| o.ms).sum();
+    for o in &mut acc {
+        o.share = o.ms / total.max(1e-12);
+        o.nodes = (o.nodes as f64 / n).round() as usize;
+    }
+    acc.sort_by(|a, b| b.ms.total_cmp(&a.ms));
+    acc
+}
+
 /// A loaded ONNX model.
 pub struct Model {
     typed: TypedModel,

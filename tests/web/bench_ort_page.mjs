@@ -3,7 +3,9 @@
 // onnxruntime-web (its wasm backend, numThreads = 1), on every bundled
 // model. Prints JSON: per case the best of N runs after one warm-up run
 // (which builds tract's plan), the ratio tract / onnxruntime-web, and the
-// largest difference between their outputs.
+// largest difference between their outputs; and tract's time per operator
+// in this page (OnnxModel.profileInputs: every node of its plan timed with
+// performance.now(), top four).
 // Usage: node tests/web/bench_ort_page.mjs [--smoke]
 import { withBenchPage } from './chromium.mjs';
 
@@ -53,8 +55,12 @@ await withBenchPage(async (page) => {
       const ortMs = await best(async () => { b = (await session.run(feeds))[session.outputNames[0]].data; });
       let diff = 0;
       for (let i = 0; i < a.length; i++) diff = Math.max(diff, Math.abs(a[i] - b[i]));
+      // where tract spends its time here, in wasm: its plan's nodes timed, per operator
+      const profile = JSON.parse(tract.profileInputs(flat, new Uint32Array(shapes), new Uint32Array(ranks), reps))
+        .slice(0, 4).map((o) => ({ op: o.op, ms: +o.ms.toFixed(2), share: +o.share.toFixed(3), nodes: o.nodes }));
       out.push({ model: name, tract_ms: +tractMs.toFixed(2), onnxruntime_web_ms: +ortMs.toFixed(2),
-                 ratio: +(tractMs / ortMs).toFixed(2), max_output_difference: diff, outputs: a.length === b.length ? a.length : `${a.length} vs ${b.length}` });
+                 ratio: +(tractMs / ortMs).toFixed(2), max_output_difference: diff, outputs: a.length === b.length ? a.length : `${a.length} vs ${b.length}`,
+                 tract_profile_wasm: profile });
       tract.free();
       await session.release();
     }

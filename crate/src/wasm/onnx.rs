@@ -53,36 +53,83 @@ impl OnnxModel {
         shapes: &[u32],
         ranks: &[u32],
     ) -> Result<Vec<f32>, JsError> {
-        let mut inputs = Vec::with_capacity(ranks.len());
-        let (mut at, mut dim) = (0usize, 0usize);
-        for &r in ranks {
-            let shape: Vec<usize> = shapes
-                .get(dim..dim + r as usize)
-                .ok_or_else(|| {
-                    JsError::new("runInputs: the ranks ask for more dimensions than shapes has")
-                })?
-                .iter()
-                .map(|&d| d as usize)
-                .collect();
-            dim += r as usize;
-            let n = shape.iter().try_fold(1usize, |n, &d| n.checked_mul(d));
-            let values = n
-                .and_then(|n| data.get(at..at.checked_add(n)?))
-                .ok_or_else(|| {
-                    JsError::new("runInputs: the shapes ask for more values than data has")
-                })?;
-            at += values.len();
-            inputs.push(TensorF32::new(values.to_vec(), shape).map_err(js_err)?);
-        }
-        if at != data.len() || dim != shapes.len() {
-            return Err(JsError::new(
-                "runInputs: data or shapes left over after the inputs",
-            ));
-        }
+        let inputs = inputs_from(data, shapes, ranks)?;
         let mut out = self.inner.run(&inputs).map_err(js_err)?;
         if out.is_empty() {
             return Err(JsError::new("model produced no output"));
         }
         Ok(out.swap_remove(0).data)
     }
+
+    /// Where tract spends its time in this browser (issue 23): `runs`
+    /// profiled runs on inputs given as [`runInputs`](Self::run_inputs)
+    /// takes them, every node of tract's plan timed with
+    /// `performance.now()` (whose resolution the browser may coarsen to
+    /// 0.1 ms), summed per operator. Returns JSON: `[{op, ms, share,
+    /// nodes}]`, ms per run, slowest first.
+    #[wasm_bindgen(js_name = profileInputs)]
+    pub fn profile_inputs(
+        &self,
+        data: &[f32],
+        shapes: &[u32],
+        ranks: &[u32],
+        runs: u32,
+    ) -> Result<String, JsError> {
+        let inputs = inputs_from(data, shapes, ranks)?;
+        let clock = now_ms;
+        let times = (0..runs.clamp(1, 100))
+            .map(|_| self.inner.profile(&inputs, &clock))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(js_err)?;
+        serde_json::to_string(&crate::runtime::per_op(&times))
+            .map_err(|e| JsError::new(&e.to_string()))
+    }
+}
+
+/// `performance.now()` in a window or a worker; `Date.now()` without one.
+fn now_ms() -> f64 {
+    let global = js_sys::global();
+    js_sys::Reflect::get(&global, &JsValue::from_str("performance"))
+        .ok()
+        .and_then(|p| {
+            let now = js_sys::Reflect::get(&p, &JsValue::from_str("now")).ok()?;
+            now.dyn_into::<js_sys::Function>()
+                .ok()?
+                .call0(&p)
+                .ok()?
+                .as_f64()
+        })
+        .unwrap_or_else(js_sys::Date::now)
+}
+
+/// Inputs given as values one after the other in `data`, shapes one after
+/// the other in `shapes` and each shape's rank in `ranks`.
+fn inputs_from(data: &[f32], shapes: &[u32], ranks: &[u32]) -> Result<Vec<TensorF32>, JsError> {
+    let mut inputs = Vec::with_capacity(ranks.len());
+    let (mut at, mut dim) = (0usize, 0usize);
+    for &r in ranks {
+        let shape: Vec<usize> = shapes
+            .get(dim..dim + r as usize)
+            .ok_or_else(|| {
+                JsError::new("runInputs: the ranks ask for more dimensions than shapes has")
+            })?
+            .iter()
+            .map(|&d| d as usize)
+            .collect();
+        dim += r as usize;
+        let n = shape.iter().try_fold(1usize, |n, &d| n.checked_mul(d));
+        let values = n
+            .and_then(|n| data.get(at..at.checked_add(n)?))
+            .ok_or_else(|| {
+                JsError::new("runInputs: the shapes ask for more values than data has")
+            })?;
+        at += values.len();
+        inputs.push(TensorF32::new(values.to_vec(), shape).map_err(js_err)?);
+    }
+    if at != data.len() || dim != shapes.len() {
+        return Err(JsError::new(
+            "runInputs: data or shapes left over after the inputs",
+        ));
+    }
+    Ok(inputs)
 }
