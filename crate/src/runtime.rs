@@ -547,6 +547,39 @@ mod half_tests {
     use super::*;
 
     #[test]
+    fn per_op_averages_runs_and_sorts_slowest_first() {
+        let t = |node: &str, op: &str, ms: f64| NodeTime {
+            node: node.into(),
+            op: op.into(),
+            ms,
+        };
+        let runs = vec![
+            vec![
+                t("a", "MatMul", 3.0),
+                t("b", "Add", 1.0),
+                t("c", "MatMul", 1.0),
+            ],
+            vec![
+                t("a", "MatMul", 5.0),
+                t("b", "Add", 1.0),
+                t("c", "MatMul", 1.0),
+            ],
+        ];
+        let ops = per_op(&runs);
+        assert_eq!(ops.len(), 2);
+        assert_eq!(
+            (ops[0].op.as_str(), ops[0].ms, ops[0].nodes),
+            ("MatMul", 5.0, 2)
+        );
+        assert_eq!(
+            (ops[1].op.as_str(), ops[1].ms, ops[1].nodes),
+            ("Add", 1.0, 1)
+        );
+        assert!((ops[0].share - 5.0 / 6.0).abs() < 1e-12);
+        assert!(per_op(&[]).is_empty());
+    }
+
+    #[test]
     fn half_to_float_is_exact() {
         assert_eq!(f16_to_f32(0x3c00), 1.0);
         assert_eq!(f16_to_f32(0xc000), -2.0);
