@@ -1,0 +1,76 @@
+"""The README's Speed tables from one set of benchmark outputs (issue 23).
+
+  .venv/bin/python scripts/speed_tables.py docs/speed_<date>.json
+
+The JSON holds what scripts/speed.sh collects: "native" (`cargo bench
+--bench inbetween`), "wasm" (`node tests/web/bench_page.mjs`), "ort" (`node
+tests/web/bench_ort_page.mjs`) and "profile" (`cargo run --release --example
+profile_models`). Prints two Markdown tables: the in-betweening per length
+(native and wasm, the default pipeline and the generator pipeline, beside
+thesis Table 5.3), and per bundled model tract natively, tract in wasm and
+onnxruntime-web, with what tract's own profile in wasm puts first.
+"""
+import json
+import sys
+
+TABLE_5_3 = {512: 59, 1024: 101, 2048: 188, 4096: 329}  # Titan Xp, full-width model (ms)
+
+
+def fmt(v, nd=1):
+    return "-" if v is None else f"{v:.{nd}f}"
+
+
+def inbetween(d):
+    nat = {r["frames"]: r for r in d["native"]["rows"]}
+    web = {r["frames"]: r for r in d["wasm"]["rows"]}
+    sizes = sorted(web)
+    rows = []
+
+    def row(label, f, bold=False):
+        cells = [f(n) for n in sizes]
+        if bold:
+            label, cells = f"**{label}**", [f"**{c}**" for c in cells]
+        rows.append(f"| {label} | " + " | ".join(cells) + " |")
+
+    row("native: the default for whole-pose keys (residual network)", lambda n: fmt(nat.get(n, {}).get("residual_ms")))
+    row("native: generator pipeline, total (generator, RC-FK, path, post with foot locking)",
+        lambda n: fmt(nat.get(n, {}).get("total_ms")))
+    row("native: SLERP+LERP", lambda n: fmt(nat.get(n, {}).get("slerp_lerp_ms"), 2))
+    row("wasm: residual network alone", lambda n: fmt(web[n].get("residual_network_ms"), 0))
+    row("wasm total: the default for whole-pose keys (`total_ms`)", lambda n: fmt(web[n]["total_ms"], 0), bold=True)
+    row("wasm: its first call at that length (`first_call_ms`)", lambda n: fmt(web[n]["first_call_ms"], 0))
+    g = lambda n, k: web[n]["generator_pipeline"][k]  # noqa: E731
+    row("wasm: generator pipeline, generator", lambda n: fmt(g(n, "generator_ms"), 0))
+    row("wasm: generator pipeline, path predictor", lambda n: fmt(g(n, "path_ms"), 0))
+    row("wasm: generator pipeline, total", lambda n: fmt(g(n, "total_ms"), 0))
+    row("wasm: SLERP+LERP with BVH and FK", lambda n: fmt(web[n]["slerp_lerp_ms_with_bvh_and_fk"], 0))
+    row("thesis Table 5.3 (Titan Xp GPU, full-width model)", lambda n: str(TABLE_5_3.get(n, "-")))
+    head = "| frames | " + " | ".join(str(n) for n in sizes) + " |\n|---|" + "---|" * len(sizes)
+    return head + "\n" + "\n".join(rows)
+
+
+def models(d):
+    native = {r["model"]: r for r in d["profile"]["rows"]}
+    out = ["| model (inputs) | tract, native | tract, wasm | onnxruntime-web | tract / ORT (wasm) "
+           "| tract's first operator in wasm (its own profile) | that operator alone / ORT's whole run |",
+           "|---|---|---|---|---|---|---|"]
+    for r in d["ort"]["rows"]:
+        n = native.get(r["model"], {})
+        top = (r.get("tract_profile_wasm") or [None])[0]
+        first = f"{top['op']} {top['share'] * 100:.0f}%" if top else "-"
+        alone = f"{top['ms'] / r['onnxruntime_web_ms']:.2f}" if top and r["onnxruntime_web_ms"] else "-"
+        out.append(f"| {r['model']} | {fmt(n.get('best_profiled_run_ms'))} | {fmt(r['tract_ms'])} | "
+                   f"{fmt(r['onnxruntime_web_ms'])} | {r['ratio']:.2f} | {first} | {alone} |")
+    return "\n".join(out)
+
+
+def main():
+    d = json.load(open(sys.argv[1]))
+    print(f"Measured {d.get('date', '?')}, {d.get('machine', '')} (ms).\n")
+    print(inbetween(d))
+    print()
+    print(models(d))
+
+
+if __name__ == "__main__":
+    main()
