@@ -114,11 +114,25 @@ class Skeleton:
 
 
 class Clips:
-    def __init__(self, d, split):
+    def __init__(self, d, split, keep=None):
+        """The split's segments; `keep` (one flag per frame, motion/filter_d2.py)
+        drops frames and splits segments where they were."""
         self.root = torch.from_numpy(d[f"{split}_root"])
         self.quat = torch.from_numpy(d[f"{split}_quat"])
         self.lens = d[f"{split}_len"]
         self.names = list(d[f"{split}_name"])
+        if keep is not None:
+            if len(keep) != len(self.root):
+                raise SystemExit(f"filter: {len(keep)} flags for {len(self.root)} {split} frames")
+            lens, names = [], []
+            for a, n, name in zip(np.concatenate([[0], np.cumsum(self.lens)[:-1]]), self.lens, self.names):
+                k = np.concatenate([[False], keep[a:a + n], [False]])
+                edges = np.flatnonzero(k[1:] != k[:-1])
+                for i, j in zip(edges[::2], edges[1::2]):
+                    lens.append(j - i)
+                    names.append(f"{name}+{i}")
+            self.root, self.quat = self.root[torch.from_numpy(keep)], self.quat[torch.from_numpy(keep)]
+            self.lens, self.names = np.array(lens), names
         self.starts = np.concatenate([[0], np.cumsum(self.lens)[:-1]])
 
     def window(self, n, rng):
@@ -450,7 +464,12 @@ def train(args):
     rng = np.random.default_rng(args.seed)
     d = np.load(args.data)
     skel = Skeleton(d)
-    clips = Clips(d, "train")
+    keep = None
+    if args.d2_filter:
+        f = np.load(args.d2_filter)
+        keep = f["keep"]
+        print(f"D.2 filter {args.d2_filter}: {json.loads(str(f['summary']))}", flush=True)
+    clips = Clips(d, "train", keep)
     dev = torch.device(args.device)
     ck = os.path.join(args.out, "ckpt.pt")
     # what --resume starts from: the run's own checkpoint (with its optimizer
@@ -802,6 +821,8 @@ def main():
                     help="weight of the short-time spectrum loss on root-relative positions (NPSS's view)")
     ap.add_argument("--dilations", type=lambda s: tuple(int(x) for x in s.split(",")), default=DILATIONS,
                     help="one residual block per dilation; resuming with more than saved appends identity blocks")
+    ap.add_argument("--d2-filter", help="train: only the training frames motion/filter_d2.py keeps "
+                                        "(its .npz, e.g. train/cache/d2_filter.npz)")
     ap.add_argument("--gan-weight", type=float, default=0.0,
                     help="the adversarial stage (residual_adv.py): weight of the network's LSGAN loss; 0 trains "
                          "with supervision only")
