@@ -8,7 +8,7 @@ looked at.
   train/.venv/bin/python -m deeprep_train.motion.pick_variation [V ...]   (default grid below)
 
 Runs train/deeprep_train/motion/eval.py once (--split train) with SLERP+LERP and the
-model without foot locking at each V, writes docs/inbetween_variation_train.json
+generator pipeline without foot locking at each V (`generator-V`), writes docs/inbetween_variation_train.json
 and sets `variation` (and how it was chosen) in
 models/onnx/tween_generator.manifest.json. Needs the release CLI
 (cargo build --release --bin deeprep) and train/cache/motion60.npz.
@@ -31,11 +31,13 @@ def main():
     ap = argparse.ArgumentParser(description="On training takes: the generator's default variation.")
     ap.add_argument("grid", nargs="*", help=f"variations to try (default: {' '.join(GRID)})")
     grid = ap.parse_args().grid or GRID
-    methods = ["slerp"] + [f"variation-{v}" for v in grid]
+    # generator-V: the generator pipeline at V whatever the residual manifest
+    # says ("variation-V" runs --method model, the residual network on these keys)
+    methods = ["slerp"] + [f"generator-{v}" for v in grid]
     subprocess.run([sys.executable, "-m", "deeprep_train.motion.eval", "--split", "train", "--methods", ",".join(methods)],
                    cwd=TRAIN, check=True)
     res = json.load(open(os.path.join(ROOT, "docs", "inbetween_eval_train.json")))
-    scores = {v: target_cells(res, f"variation-{v}") for v in grid}
+    scores = {v: target_cells(res, f"generator-{v}") for v in grid}
     for v, s in scores.items():
         print(v, json.dumps(s), flush=True)
     top = best(scores)
