@@ -26,7 +26,7 @@ from deeprep_train.rotation import sixd_to_matrix  # noqa: E402
 from deeprep_train.motion.nets import (SCALE, GAN_TARGET, Discriminator, Generator, PathPredictor,  # noqa: E402
                                  base_channels, dense_input, path_loss, rc_to_raw, BASES)
 
-from deeprep_train.paths import CACHE  # noqa: E402
+from deeprep_train.paths import CACHE, TRAIN  # noqa: E402
 # where checkpoints and the log go by default (--out)
 OUT = os.path.join(CACHE, "tween")
 W = {"recon": 100.0, "vel": 100.0, "acc": 0.0, "spec": 0.0, "rot": 0.0, "path": 0.0, "key": 300.0, "root": 50.0, "gan": 1.0, "br": 5.0,
@@ -337,6 +337,7 @@ def main():
     J = len(data.joints)
     P = J * 3
     fk = RCFK(data.joints, data.parents, data.offsets, data.channel_joints)
+    path_extra = {}
     if args.path_ckpt:
         ck = torch.load(args.path_ckpt)
         path_config = ck.get("config", {})
@@ -344,6 +345,9 @@ def main():
         path.load_state_dict(ck["model"])
         path.eval()
         psteps = ck["steps"]
+        # how it was trained travels with it into this run's path.pt (and the manifest)
+        path_extra = {k: v for k, v in ck.items() if k in ("augment", "minutes", "table_5_2_train")}
+        path_extra["source"] = os.path.relpath(args.path_ckpt, TRAIN)
     else:
         path_config = {"width": args.path_width, "layers": args.path_layers,
                        "dilations": [int(x) for x in args.path_dilations.split(",")]}
@@ -357,12 +361,12 @@ def main():
         log({"stage": "path_eval_train", "steps": psteps, **train_table})
         torch.save({"model": path.state_dict(), "steps": psteps, "table_5_2_val": table,
                     "table_5_2_train": train_table, "config": path_config,
-                    "augment": bool(args.path_augment)}, os.path.join(out, "path.pt"))
+                    "augment": bool(args.path_augment), "minutes": args.path_minutes}, os.path.join(out, "path.pt"))
         return
     for p in path.parameters():
         p.requires_grad_(False)
-    torch.save({"model": path.state_dict(), "steps": psteps, "table_5_2_val": table, "config": path_config},
-               os.path.join(out, "path.pt"))
+    torch.save({"model": path.state_dict(), "steps": psteps, "table_5_2_val": table, "config": path_config,
+                **path_extra}, os.path.join(out, "path.pt"))
 
     G = Generator(P, fk.output_dim, gate_tau=args.gate_tau, skips=args.skips)
     D = Discriminator(P)
