@@ -3,24 +3,17 @@ outlier rule removes frames far above the median error and the pieces left
 shorter than MIN_SEGMENT, and the residual network's clips split where
 frames went (train/deeprep_train/motion/residual.py's Clips). Needs torch,
 so it runs in the training venv and skips in the test venv."""
-import os
-import sys
 
 import numpy as np
 import pytest
 
 torch = pytest.importorskip("torch", reason="torch is only in train/.venv (tests never need it)")
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
 @pytest.fixture()
-def mods(monkeypatch):
-    monkeypatch.syspath_prepend(os.path.join(ROOT, "train"))
-    for m in [m for m in sys.modules if m.startswith("deeprep_train")]:
-        monkeypatch.delitem(sys.modules, m)
-    from deeprep_train.motion import filter_d2, residual
-    return filter_d2, residual
+def mods(train_import):
+    return train_import("deeprep_train.motion.filter_d2"), train_import("deeprep_train.motion.residual")
 
 
 def test_outliers_and_the_short_pieces_they_leave_are_removed(mods):

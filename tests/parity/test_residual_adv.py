@@ -4,24 +4,17 @@ spliced window keeps the first clip up to the interval's end key, then the
 second clip turned about the vertical and moved, its own motion otherwise
 intact. Needs torch, so it runs in the training venv
 (`train/.venv/bin/python -m pytest tests/parity`) and skips in the test venv."""
-import os
-import sys
 
 import numpy as np
 import pytest
 
 torch = pytest.importorskip("torch", reason="torch is only in train/.venv (tests never need it)")
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
 @pytest.fixture()
-def adv(monkeypatch):
-    monkeypatch.syspath_prepend(os.path.join(ROOT, "train"))
-    for m in [m for m in sys.modules if m.startswith("deeprep_train")]:
-        monkeypatch.delitem(sys.modules, m)
-    from deeprep_train.motion import residual_adv
-    return residual_adv
+def adv(train_import):
+    return train_import("deeprep_train.motion.residual_adv")
 
 
 def window(n, k, seed):

@@ -5,23 +5,16 @@ length (odd or even) comes back at that length, and a stride-2 network is
 the stride-1 network's blocks run on every second frame. Needs torch, so it
 runs in the training venv (`train/.venv/bin/python -m pytest tests/parity`)
 and skips in the test venv."""
-import os
-import sys
 
 import pytest
 
 torch = pytest.importorskip("torch", reason="torch is only in train/.venv (tests never need it)")
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
 @pytest.fixture()
-def residual(monkeypatch):
-    monkeypatch.syspath_prepend(os.path.join(ROOT, "train"))
-    for m in [m for m in sys.modules if m.startswith("deeprep_train")]:
-        monkeypatch.delitem(sys.modules, m)
-    from deeprep_train.motion import residual
-    return residual
+def residual(train_import):
+    return train_import("deeprep_train.motion.residual")
 
 
 def test_upsampling_keeps_samples_and_averages_between(residual):

@@ -6,7 +6,6 @@ training venv (`train/.venv/bin/python -m pytest tests/parity`) and skips in
 the test venv, which has none by design."""
 import json
 import os
-import sys
 
 import numpy as np
 import pytest
@@ -17,12 +16,8 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 
 
 @pytest.fixture()
-def rotation(monkeypatch):
-    monkeypatch.syspath_prepend(os.path.join(ROOT, "train"))
-    for m in [m for m in sys.modules if m.startswith("deeprep_train")]:
-        monkeypatch.delitem(sys.modules, m)
-    from deeprep_train import rotation
-    return rotation
+def rotation(train_import):
+    return train_import("deeprep_train.rotation")
 
 
 def fixture():
