@@ -10,7 +10,6 @@ import pytest
 torch = pytest.importorskip("torch", reason="torch is only in train/.venv (tests never need it)")
 
 
-
 @pytest.fixture()
 def mods(train_import):
     return train_import("deeprep_train.motion.filter_d2"), train_import("deeprep_train.motion.residual")

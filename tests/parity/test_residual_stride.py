@@ -11,7 +11,6 @@ import pytest
 torch = pytest.importorskip("torch", reason="torch is only in train/.venv (tests never need it)")
 
 
-
 @pytest.fixture()
 def residual(train_import):
     return train_import("deeprep_train.motion.residual")
