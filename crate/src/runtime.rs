@@ -543,7 +543,7 @@ fn fold_constant_matmuls(g: &mut tract_onnx::pb::GraphProto) -> Result<usize> {
 }
 
 #[cfg(test)]
-mod half_tests {
+mod profile_tests {
     use super::*;
 
     #[test]
@@ -578,6 +578,11 @@ mod half_tests {
         assert!((ops[0].share - 5.0 / 6.0).abs() < 1e-12);
         assert!(per_op(&[]).is_empty());
     }
+}
+
+#[cfg(test)]
+mod half_tests {
+    use super::*;
 
     #[test]
     fn half_to_float_is_exact() {

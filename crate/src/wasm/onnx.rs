@@ -53,7 +53,7 @@ impl OnnxModel {
         shapes: &[u32],
         ranks: &[u32],
     ) -> Result<Vec<f32>, JsError> {
-        let inputs = inputs_from(data, shapes, ranks)?;
+        let inputs = inputs_from("runInputs", data, shapes, ranks)?;
         let mut out = self.inner.run(&inputs).map_err(js_err)?;
         if out.is_empty() {
             return Err(JsError::new("model produced no output"));
@@ -75,7 +75,7 @@ impl OnnxModel {
         ranks: &[u32],
         runs: u32,
     ) -> Result<String, JsError> {
-        let inputs = inputs_from(data, shapes, ranks)?;
+        let inputs = inputs_from("profileInputs", data, shapes, ranks)?;
         let clock = now_ms;
         let times = (0..runs.clamp(1, 100))
             .map(|_| self.inner.profile(&inputs, &clock))
@@ -103,15 +103,23 @@ fn now_ms() -> f64 {
 }
 
 /// Inputs given as values one after the other in `data`, shapes one after
-/// the other in `shapes` and each shape's rank in `ranks`.
-fn inputs_from(data: &[f32], shapes: &[u32], ranks: &[u32]) -> Result<Vec<TensorF32>, JsError> {
+/// the other in `shapes` and each shape's rank in `ranks`; errors name the
+/// method `what`.
+fn inputs_from(
+    what: &str,
+    data: &[f32],
+    shapes: &[u32],
+    ranks: &[u32],
+) -> Result<Vec<TensorF32>, JsError> {
     let mut inputs = Vec::with_capacity(ranks.len());
     let (mut at, mut dim) = (0usize, 0usize);
     for &r in ranks {
         let shape: Vec<usize> = shapes
             .get(dim..dim + r as usize)
             .ok_or_else(|| {
-                JsError::new("runInputs: the ranks ask for more dimensions than shapes has")
+                JsError::new(&format!(
+                    "{what}: the ranks ask for more dimensions than shapes has"
+                ))
             })?
             .iter()
             .map(|&d| d as usize)
@@ -121,15 +129,17 @@ fn inputs_from(data: &[f32], shapes: &[u32], ranks: &[u32]) -> Result<Vec<Tensor
         let values = n
             .and_then(|n| data.get(at..at.checked_add(n)?))
             .ok_or_else(|| {
-                JsError::new("runInputs: the shapes ask for more values than data has")
+                JsError::new(&format!(
+                    "{what}: the shapes ask for more values than data has"
+                ))
             })?;
         at += values.len();
         inputs.push(TensorF32::new(values.to_vec(), shape).map_err(js_err)?);
     }
     if at != data.len() || dim != shapes.len() {
-        return Err(JsError::new(
-            "runInputs: data or shapes left over after the inputs",
-        ));
+        return Err(JsError::new(&format!(
+            "{what}: data or shapes left over after the inputs"
+        )));
     }
     Ok(inputs)
 }
