@@ -72,6 +72,37 @@ fn tract_runs_the_tiny_network_in_the_browser() {
     assert!(diff <= 1e-5, "tract in Chromium vs onnxruntime: {diff}");
 }
 
+/// Issue 23: tract's own profile in the browser, per operator, from the
+/// same inputs `runInputs` takes; bad inputs are errors naming the method.
+#[wasm_bindgen_test]
+fn onnx_models_profile_per_operator_in_the_browser() {
+    let f: serde_json::Value = serde_json::from_str(MODEL_FIXTURE).unwrap();
+    let input = floats(&f["input"]);
+    let shape: Vec<u32> = f["input_shape"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_u64().unwrap() as u32)
+        .collect();
+    let ranks = [shape.len() as u32];
+    let m = deeprep::wasm::OnnxModel::new(MODEL).unwrap();
+    let ops: Vec<serde_json::Value> =
+        serde_json::from_str(&m.profile_inputs(&input, &shape, &ranks, 3).unwrap()).unwrap();
+    assert!(!ops.is_empty());
+    let share: f64 = ops.iter().map(|o| o["share"].as_f64().unwrap()).sum();
+    assert!(
+        (share - 1.0).abs() < 1e-6 || share == 0.0,
+        "shares sum to {share}"
+    );
+    assert!(ops
+        .iter()
+        .any(|o| o["op"].as_str().unwrap().contains("MatMul")));
+    let ms: Vec<f64> = ops.iter().map(|o| o["ms"].as_f64().unwrap()).collect();
+    assert!(ms.windows(2).all(|w| w[0] >= w[1]), "slowest first: {ms:?}");
+    assert!(m.profile_inputs(&input, &shape, &[9], 1).is_err());
+    assert!(m.profile_inputs(&input[1..], &shape, &ranks, 1).is_err());
+}
+
 const IK_MODEL: &[u8] = include_bytes!("../../models/onnx/ik.onnx");
 const IK_MANIFEST: &str = include_str!("../../models/onnx/ik.manifest.json");
 const IK_FIXTURE: &str = include_str!("../../models/onnx/fixtures/ik.json");
