@@ -39,7 +39,7 @@ import torch.nn.functional as F
 
 from deeprep_train.paths import CACHE
 from deeprep_train.rcfk import RCFK
-from deeprep_train.motion.data import MIN_SEGMENT
+from deeprep_train.motion.data import MIN_SEGMENT, runs
 from deeprep_train.motion.train import Data, lam
 
 OUT = os.path.join(CACHE, "d2_filter.npz")
@@ -122,20 +122,11 @@ def keep_mask(err, starts, lens, mads):
     pieces = 0
     for a, n in zip(starts, lens):
         a, n = int(a), int(n)
-        k = keep[a:a + n]
-        i = 0
-        while i < n:
-            if not k[i]:
-                i += 1
-                continue
-            j = i
-            while j < n and k[j]:
-                j += 1
+        for i, j in runs(keep[a:a + n]):
             if j - i < MIN_SEGMENT:
                 keep[a + i:a + j] = False
             else:
                 pieces += 1
-            i = j
     counts = {"frames": int(len(err)), "noisy_frames": noisy, "short_piece_frames": int((~keep).sum()) - noisy,
               "removed_frames": int((~keep).sum()), "segments_before": pieces_before, "segments_after": pieces}
     return keep, thr, counts

@@ -126,9 +126,7 @@ class Clips:
                 raise SystemExit(f"filter: {len(keep)} flags for {len(self.root)} {split} frames")
             lens, names = [], []
             for a, n, name in zip(np.concatenate([[0], np.cumsum(self.lens)[:-1]]), self.lens, self.names):
-                k = np.concatenate([[False], keep[a:a + n], [False]])
-                edges = np.flatnonzero(k[1:] != k[:-1])
-                for i, j in zip(edges[::2], edges[1::2]):
+                for i, j in runs(keep[a:a + n]):
                     lens.append(j - i)
                     names.append(f"{name}+{i}")
             self.root, self.quat = self.root[torch.from_numpy(keep)], self.quat[torch.from_numpy(keep)]
@@ -384,24 +382,28 @@ def losses(net, skel, batch, w, sup=None, adv=None):
     with the truth's (supervised windows) under "_grel", for the
     discriminator's update."""
     base_root, base_rot, gt_root, gt_rot, phase, gate, offs = batch
-    root_all, rot_all = apply(net, base_root, base_rot, phase, gate)
-    pos_all = fk(skel, root_all, rot_all, offs) / SCALE
-    extra = {}
+    root, rot = apply(net, base_root, base_rot, phase, gate)
+    pos = fk(skel, root, rot, offs) / SCALE
+    out, private = {}, {}
     if adv is not None:
-        extra["gan"] = adv.g_loss(pos_all - pos_all[:, :, :1])
-        extra["_rel"] = (pos_all - pos_all[:, :, :1]).detach()
-    if sup is None:
-        sup = torch.ones(pos_all.shape[0], dtype=torch.bool)
-    S = sup.nonzero().squeeze(1).to(pos_all.device)
-    if len(S) == 0:
-        out = {k: v for k, v in extra.items() if not k.startswith("_")}
-        out["total"] = sum(w[k] * v for k, v in out.items() if w.get(k))
-        return {**out, **{k: v for k, v in extra.items() if k.startswith("_")}}
-    root, rot, pos = root_all[S], rot_all[S], pos_all[S]
-    gt_root, gt_rot = gt_root[S], gt_rot[S]
-    gpos = fk(skel, gt_root, gt_rot, offs[S]) / SCALE
+        gan = adv.g_loss(pos - pos[:, :, :1])
+        private["_rel"] = (pos - pos[:, :, :1]).detach()
+    S = torch.arange(pos.shape[0]) if sup is None else sup.nonzero().squeeze(1)
+    if len(S):
+        S = S.to(pos.device)
+        gpos = fk(skel, gt_root[S], gt_rot[S], offs[S]) / SCALE
+        out.update(supervised(skel, root[S], rot[S], pos[S], gt_root[S], gt_rot[S], gpos, w))
+        if adv is not None:
+            private["_grel"] = (gpos - gpos[:, :, :1]).detach()
     if adv is not None:
-        extra["_grel"] = (gpos - gpos[:, :, :1]).detach()
+        out["gan"] = gan
+    out["total"] = sum(w[k] * v for k, v in out.items() if w.get(k))
+    return {**out, **private}
+
+
+def supervised(skel, root, rot, pos, gt_root, gt_rot, gpos, w):
+    """The supervised terms on windows with a ground truth: the output's
+    root, rotations and positions (/ SCALE) against the truth's."""
     out = {
         "pos": (pos - gpos).abs().mean(),
         "rot": (sixd(rot) - sixd(gt_rot)).abs().mean(),
@@ -437,9 +439,7 @@ def losses(net, skel, batch, w, sup=None, adv=None):
         # windows, hop 16): NPSS compares power spectra of short windows, and
         # an L1 on positions alone lets the output be smoother than the truth
         out["spectral"] = spectral_l1(pos - pos[:, :, :1], gpos - gpos[:, :, :1])
-    out.update({k: v for k, v in extra.items() if not k.startswith("_")})
-    out["total"] = sum(w[k] * v for k, v in out.items() if w.get(k))
-    return {**out, **{k: v for k, v in extra.items() if k.startswith("_")}}
+    return out
 
 
 def spectral_l1(a, b, n_fft=64, hop=16):
