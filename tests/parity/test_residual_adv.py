@@ -16,6 +16,13 @@ def adv(train_import):
     return train_import("deeprep_train.motion.residual_adv")
 
 
+@pytest.fixture()
+def rot(train_import):
+    """[..., 4] quaternions [w, x, y, z] -> rotation matrices."""
+    to_matrix = train_import("deeprep_train.rotation").quat_to_matrix
+    return lambda q: to_matrix(q[..., [1, 2, 3, 0]])
+
+
 def window(n, k, seed):
     g = torch.Generator().manual_seed(seed)
     root = torch.cumsum(torch.randn(n, 3, generator=g), 0)
@@ -24,15 +31,7 @@ def window(n, k, seed):
     return root, q / q.norm(dim=-1, keepdim=True)
 
 
-def rot(q):
-    w, x, y, z = q.unbind(-1)
-    return torch.stack([
-        torch.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
-        torch.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
-        torch.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1)], -2)
-
-
-def test_a_long_interval_takes_its_end_key_from_the_other_clip(adv):
+def test_a_long_interval_takes_its_end_key_from_the_other_clip(adv, rot):
     n, k = 400, 5
     ra, qa = window(n, k, 1)
     rb, qb = window(n, k, 2)

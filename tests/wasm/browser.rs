@@ -50,16 +50,22 @@ fn rotation_errors_surface_in_wasm() {
     assert!(e.is_err());
 }
 
-#[wasm_bindgen_test]
-fn tract_runs_the_tiny_network_in_the_browser() {
+/// The rot6d fixture's input and its shape.
+fn model_fixture_input() -> (serde_json::Value, Vec<f32>, Vec<usize>) {
     let f: serde_json::Value = serde_json::from_str(MODEL_FIXTURE).unwrap();
     let input = floats(&f["input"]);
-    let shape: Vec<usize> = f["input_shape"]
+    let shape = f["input_shape"]
         .as_array()
         .unwrap()
         .iter()
         .map(|x| x.as_u64().unwrap() as usize)
         .collect();
+    (f, input, shape)
+}
+
+#[wasm_bindgen_test]
+fn tract_runs_the_tiny_network_in_the_browser() {
+    let (f, input, shape) = model_fixture_input();
     let expected = floats(&f["output_onnxruntime"]);
     let model = Model::from_onnx_bytes(MODEL).unwrap();
     let out = model.run(&[TensorF32::new(input, shape).unwrap()]).unwrap();
@@ -76,14 +82,8 @@ fn tract_runs_the_tiny_network_in_the_browser() {
 /// same inputs `runInputs` takes; bad inputs are errors naming the method.
 #[wasm_bindgen_test]
 fn onnx_models_profile_per_operator_in_the_browser() {
-    let f: serde_json::Value = serde_json::from_str(MODEL_FIXTURE).unwrap();
-    let input = floats(&f["input"]);
-    let shape: Vec<u32> = f["input_shape"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_u64().unwrap() as u32)
-        .collect();
+    let (_, input, shape) = model_fixture_input();
+    let shape: Vec<u32> = shape.iter().map(|&d| d as u32).collect();
     let ranks = [shape.len() as u32];
     let m = deeprep::wasm::OnnxModel::new(MODEL).unwrap();
     let ops: Vec<serde_json::Value> =

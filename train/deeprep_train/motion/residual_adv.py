@@ -20,6 +20,7 @@ import math
 import torch
 
 from deeprep_train.motion.nets import GAN_TARGET, Discriminator
+from deeprep_train.rotation import quat_to_matrix
 
 SECONDS = 60  # frames per second of resid60.npz
 MIN_CROSS_GAP = 3 * SECONDS
@@ -51,9 +52,8 @@ def cross_clip(root_a, quat_a, root_b, quat_b, keys, rng, p):
         if g < MIN_CROSS_GAP or rng.random() >= p * g / MAX_GAP:
             continue
         phi = rng.uniform(-math.pi, math.pi)
-        c, s = math.cos(phi), math.sin(phi)
-        turn = torch.tensor([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
-        qy = torch.tensor([math.cos(phi / 2), 0.0, math.sin(phi / 2), 0.0])
+        qy = torch.tensor([math.cos(phi / 2), 0.0, math.sin(phi / 2), 0.0])  # [w, x, y, z]
+        turn = quat_to_matrix(qy[[1, 2, 3, 0]])
         travelled = float((root_a[kb, [0, 2]] - root_a[ka, [0, 2]]).norm())
         dist = travelled * rng.uniform(0.5, 1.5)
         ang = rng.uniform(-math.pi, math.pi)
