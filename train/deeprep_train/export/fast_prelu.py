@@ -67,7 +67,7 @@ def rewrite(model):
     g = model.graph
     arr = _arrays(g)
     by_out = {o: n for n in g.node for o in n.output}
-    nodes, n, drop = [], 0, set()
+    nodes, n = [], 0
     for i, node in enumerate(g.node):
         new = None
         if node.op_type == "PRelu" and node.input[1] in arr:
@@ -80,16 +80,13 @@ def rewrite(model):
             if mul.op_type == "Mul" and sub is not None and sub.op_type == "Sub" and sub.input[0] in arr:
                 p = node.input[1][:-len("scaled")]
                 new = _fast(node.input[0], arr[sub.input[0]], node.output[0], p, g)
-                if new is not None:
-                    drop |= {mul.output[0], mul.input[0], mul.input[1]}
         if new is None:
             nodes.append(node)
         else:
             nodes += new
             n += 1
-    nodes = [x for x in nodes if not set(x.output) & drop]
-    # what only the replaced nodes read (the first rewrite's constants, Casts
-    # of float16 slopes) goes too
+    # what only the replaced nodes read goes too (the first rewrite's Min,
+    # Sub and Mul, its constants, Casts of float16 slopes)
     outputs = {o.name for o in g.output}
     while True:
         used = {i for x in nodes for i in x.input} | outputs
