@@ -45,3 +45,23 @@ def test_a_stride_2_network_samples_every_second_frame_and_returns_every_frame(r
 def test_the_stride_is_1_or_2(residual):
     with pytest.raises(ValueError):
         residual.ResidualTween(2, 8, (1,), stride=3)
+
+
+def test_the_full_rate_skip_starts_at_zero_and_round_trips_through_a_checkpoint(residual):
+    torch.manual_seed(0)
+    plain = residual.ResidualTween(2, 8, (1, 2), stride=2)
+    torch.nn.init.normal_(plain.out.weight)
+    skip = residual.ResidualTween(2, 8, (1, 2), stride=2, skip=True)
+    added = residual.grow(skip, plain.state_dict(), (1, 2))
+    assert sorted(added) == ["skip.bias", "skip.weight"]
+    x = torch.randn(1, 3 + 6 * 2 + 4, 33)
+    with torch.no_grad():
+        assert torch.equal(skip(x), plain(x))  # adding the skip changes nothing until trained
+        torch.nn.init.normal_(skip.skip.weight)
+        # what a checkpoint carries rebuilds the same network
+        again = residual.build({**skip.arch(), "net": None})
+        again.load_state_dict(skip.state_dict())
+        assert skip.arch() == {"width": 8, "K": 2, "dilations": [1, 2], "stride": 2, "skip": True}
+        assert residual.arch(skip.arch()) == skip.arch()
+        assert torch.equal(again(x), skip(x))
+        assert not torch.equal(skip(x), plain(x))

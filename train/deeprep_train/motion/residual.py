@@ -244,7 +244,14 @@ DILATIONS = (1, 2, 4, 8, 16, 32)
 
 def build(s):
     """The network a checkpoint describes (older ones have no "dilations")."""
-    return ResidualTween(s["K"], s["width"], s.get("dilations", DILATIONS), s.get("stride", 1))
+    return ResidualTween(s["K"], s["width"], s.get("dilations", DILATIONS), s.get("stride", 1), s.get("skip", False))
+
+
+def arch(s):
+    """The fields of a checkpoint (or `state`-like dict) that describe its
+    network, as `build` reads them: what every saved file carries."""
+    return {"width": int(s["width"]), "K": int(s["K"]), "dilations": list(s.get("dilations", DILATIONS)),
+            "stride": int(s.get("stride", 1)), "skip": bool(s.get("skip", False))}
 
 
 def grow(net, state, dilations):
@@ -290,7 +297,7 @@ class ResidualTween(nn.Module):
     their output is interpolated back to every frame before the output
     convolution: the blocks' arithmetic, most of the network's, halves."""
 
-    def __init__(self, K, width=192, dilations=DILATIONS, stride=1):
+    def __init__(self, K, width=192, dilations=DILATIONS, stride=1, skip=False):
         super().__init__()
         if stride not in (1, 2):
             raise ValueError(f"stride {stride}: 1 or 2")
@@ -300,6 +307,14 @@ class ResidualTween(nn.Module):
         cin = 3 + 6 * K + 4
         self.inp = nn.Conv1d(cin, width, 3, padding=1, stride=stride)
         self.blocks = nn.Sequential(*[Block(width, d) for d in dilations])
+        # `skip`: a 1x1 convolution of the input at every frame added to the
+        # blocks' (upsampled) output, so the output convolution sees each
+        # frame's own phase and base pose, not only the 30 fps samples';
+        # zero at first, so adding it to a trained network changes nothing
+        self.skip = nn.Conv1d(cin, width, 1) if skip else None
+        if skip:
+            nn.init.zeros_(self.skip.weight)
+            nn.init.zeros_(self.skip.bias)
         self.out = nn.Conv1d(width, 3 + 6 * K, 3, padding=1)
         nn.init.zeros_(self.out.weight)
         nn.init.zeros_(self.out.bias)
@@ -308,7 +323,14 @@ class ResidualTween(nn.Module):
         h = self.blocks(self.inp(x))
         if self.stride == 2:
             h = upsample2(h, x.shape[-1])
+        if self.skip is not None:
+            h = h + self.skip(x)
         return self.out(F.leaky_relu(h, 0.2))
+
+    def arch(self):
+        """The fields `build` reads (`arch` of a checkpoint)."""
+        return {"width": self.inp.out_channels, "K": self.K, "dilations": list(self.dilations),
+                "stride": self.stride, "skip": self.skip is not None}
 
 
 def net_input(base_root, base_rot, phase):
@@ -486,8 +508,10 @@ def train(args):
         # the checkpoint's stride unless one is asked for (a stride-1 network
         # resumed with --stride 2 keeps its weights and learns to run at 30 fps)
         args.stride = s.get("stride", 1) if s is not None else 1
-    net = ResidualTween(skel.K, args.width, args.dilations, args.stride)
-    ema = ResidualTween(skel.K, args.width, args.dilations, args.stride)
+    # --skip adds the full-rate skip to a resumed network; a checkpoint with one keeps it
+    args.skip = bool(args.skip or (s is not None and s.get("skip", False)))
+    net = ResidualTween(skel.K, args.width, args.dilations, args.stride, args.skip)
+    ema = ResidualTween(skel.K, args.width, args.dilations, args.stride, args.skip)
     ema.load_state_dict(net.state_dict())
     step, opt_state = 0, None
     os.makedirs(args.out, exist_ok=True)
@@ -529,7 +553,7 @@ def train(args):
 
     def save():
         state = {"net": net.state_dict(), "ema": ema.state_dict(), "opt": opt.state_dict(), "step": step,
-                 "width": args.width, "K": skel.K, "dilations": list(args.dilations), "stride": args.stride}
+                 **net.arch()}
         if adv is not None:
             state.update(adv.state())
         torch.save(state, ck + ".tmp")
@@ -565,8 +589,7 @@ def train(args):
         if step % args.save_every == 0:
             save()
             if step % args.snapshot_every == 0:
-                torch.save({"ema": ema.state_dict(), "step": step, "width": args.width, "K": skel.K,
-                            "dilations": list(args.dilations), "stride": args.stride},
+                torch.save({"ema": ema.state_dict(), "step": step, **net.arch()},
                            os.path.join(args.out, f"gen_{step}.pt"))
     save()
     print(f"done at step {step}", flush=True)
@@ -680,8 +703,7 @@ def export(args):
         "gate_frames": GATE_FRAMES,
         "rotating": skel.rotating,
         "skeleton_bvh": gen_manifest["skeleton_bvh"],
-        "training": {"steps": int(s["step"]), "width": int(s["width"]),
-                     "dilations": list(net.dilations), "stride": net.stride, "checkpoint": os.path.relpath(args.ckpt, ROOT)},
+        "training": {"steps": int(s["step"]), **net.arch(), "checkpoint": os.path.relpath(args.ckpt, ROOT)},
         "parity_torch_vs_onnxruntime": parity,
         "training_data": "CMU train takes at 60 fps (59,290 frames, train/deeprep_train/motion/data.py's split and floor filter), mirrored",
         "training_code_commit": git_commit(),
@@ -740,8 +762,7 @@ def portable(args):
     half = {k: {n: v.half() for n, v in s[k].items()} for k in ("net", "ema")}
     to = args.to or PORTABLE
     os.makedirs(os.path.dirname(os.path.abspath(to)), exist_ok=True)
-    torch.save({**half, "step": s["step"], "width": s["width"], "K": s["K"],
-                "dilations": list(s.get("dilations", DILATIONS)), "stride": s.get("stride", 1)}, to)
+    torch.save({**half, "step": s["step"], **arch(s)}, to)
     print(f"wrote {to} (step {s['step']}, {os.path.getsize(to) / 1e6:.1f} MB)")
 
 
@@ -754,8 +775,9 @@ def prune(args):
     state) for `train --resume --out DIR --width W` to fine-tune."""
     s = torch.load(args.ckpt or PORTABLE, map_location="cpu")
     w = args.width
-    out = {"step": s["step"], "width": w, "K": s["K"], "dilations": list(s.get("dilations", DILATIONS)),
-           "stride": s.get("stride", 1),
+    if s.get("skip"):
+        raise SystemExit("prune: networks with the full-rate skip are not supported")
+    out = {"step": s["step"], **arch(s), "width": w,
            "pruned_from": {"ckpt": args.ckpt or PORTABLE, "width": s["width"], "step": s["step"]}}
     for part in ("net", "ema"):
         p = {k: v.float() for k, v in s[part].items()}
@@ -838,6 +860,9 @@ def main():
     ap.add_argument("--lr-d", type=float, default=1e-4, help="the discriminator's learning rate (Adam)")
     ap.add_argument("--d-warmup", type=int, default=300,
                     help="discriminator-only steps when the checkpoint has no discriminator")
+    ap.add_argument("--skip", action="store_true",
+                    help="train: add a full-rate 1x1 skip from the input to the output convolution (zero at first; "
+                         "for stride 2, issue 19's short gaps); a checkpoint with one keeps it")
     ap.add_argument("--stride", type=int, choices=[1, 2],
                     help="train: 2 runs the blocks at every second frame (half their arithmetic; issue 23); "
                          "default: the resumed checkpoint's, else 1")
