@@ -41,7 +41,7 @@ from deeprep_train.paths import ROOT, CACHE  # noqa: E402
 from deeprep_train.motion.data import DATA, TRUE_FPS, VALIDATION, floor_segments, runs, take_of, MIN_SEGMENT  # noqa: E402
 from deeprep_train.bvh import fk_from_local, local_fk, mat_to_quat, mirror_joints, read_bvh  # noqa: E402
 from deeprep_train.motion.eval import l2p_stats, npss  # noqa: E402
-from deeprep_train.motion.residual_adv import Adversary, cross_clip  # noqa: E402
+from deeprep_train.motion.residual_adv import MAX_GAP, Adversary, cross_clip  # noqa: E402
 from deeprep_train.rotation import matrix_to_6d, quat_to_matrix, sixd_to_matrix  # noqa: E402
 
 OUT = os.path.join(CACHE, "resid")
@@ -226,7 +226,7 @@ def mirror(root, quat, skel):
     return r, q
 
 
-def sample_keys(n, rng, lo=15, hi=300):
+def sample_keys(n, rng, lo=15, hi=MAX_GAP):
     keys, t = [0], 0
     while t < n - 1:
         g = int(math.exp(rng.uniform(math.log(lo), math.log(hi))))

@@ -24,7 +24,7 @@ from deeprep_train.rotation import quat_to_matrix
 
 SECONDS = 60  # frames per second of resid60.npz
 MIN_CROSS_GAP = 3 * SECONDS
-MAX_GAP = 300
+MAX_GAP = 300  # the longest interval residual.sample_keys draws in training
 
 
 def quat_mul(a, b):
