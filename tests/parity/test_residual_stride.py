@@ -65,3 +65,20 @@ def test_the_full_rate_skip_starts_at_zero_and_round_trips_through_a_checkpoint(
         assert residual.arch(skip.arch()) == skip.arch()
         assert torch.equal(again(x), skip(x))
         assert not torch.equal(skip(x), plain(x))
+
+
+
+def test_the_adversarial_gradient_skips_frames_of_short_intervals(residual):
+    """--gan-min-gap: the adversary's loss moves only frames of intervals at
+    least that long (the phase's frames since / to the keys give the length)."""
+    n, keys = 41, [0, 10, 40]  # a 10-frame and a 30-frame interval
+    phase = torch.zeros(1, n, 4)
+    for a, b in zip(keys[:-1], keys[1:]):
+        for t in range(a, b + 1):
+            phase[0, t, 1], phase[0, t, 2] = (t - a) / 60, (b - t) / 60
+    rel = torch.randn(1, n, 3, 3, requires_grad=True)
+    grad = {g: torch.autograd.grad(residual.adversarial_view(rel, phase, g).pow(2).sum(), rel)[0] for g in (0, 20, 31)}
+    assert torch.equal(grad[0], 2 * rel.detach())
+    assert grad[20][0, 1:10].abs().sum() == 0  # inside the 10-frame interval: none
+    assert torch.equal(grad[20][0, 11:40], grad[0][0, 11:40])  # the 30-frame one keeps it
+    assert grad[31].abs().sum() == 0

@@ -396,10 +396,12 @@ def make_batch(clips, skel, b, n, rng, do_mirror, cross_p=0.0):
     return st, keysets, torch.tensor(sup)
 
 
-def losses(net, skel, batch, w, sup=None, adv=None):
+def losses(net, skel, batch, w, sup=None, adv=None, gan_min_gap=0):
     """The training losses. `sup` [B] marks the windows with a ground truth
     (the supervised terms use only those); `adv` (residual_adv.Adversary)
-    adds the adversarial term on every window. Returns the terms, their
+    adds the adversarial term on every window, whose gradient skips the
+    frames of intervals shorter than `gan_min_gap` frames (there the
+    supervised terms alone train the output). Returns the terms, their
     weighted "total", and the output's root-relative positions under "_rel"
     with the truth's (supervised windows) under "_grel", for the
     discriminator's update."""
@@ -408,8 +410,9 @@ def losses(net, skel, batch, w, sup=None, adv=None):
     pos = fk(skel, root, rot, offs) / SCALE
     out, private = {}, {}
     if adv is not None:
-        gan = adv.g_loss(pos - pos[:, :, :1])
-        private["_rel"] = (pos - pos[:, :, :1]).detach()
+        rel = adversarial_view(pos - pos[:, :, :1], phase, gan_min_gap)
+        gan = adv.g_loss(rel)
+        private["_rel"] = rel.detach()
     S = torch.arange(pos.shape[0]) if sup is None else sup.nonzero().squeeze(1)
     if len(S):
         S = S.to(pos.device)
@@ -421,6 +424,17 @@ def losses(net, skel, batch, w, sup=None, adv=None):
         out["gan"] = gan
     out["total"] = sum(w[k] * v for k, v in out.items() if w.get(k))
     return {**out, **private}
+
+
+def adversarial_view(rel, phase, min_gap):
+    """rel [B,N,J,3] as the adversary sees it: detached (no gradient) at the
+    frames of intervals shorter than `min_gap` frames (phase [B,N,4]: frames
+    since the previous key / 60 plus frames to the next / 60 is the
+    interval's length); unchanged when `min_gap` is 0."""
+    if min_gap <= 0:
+        return rel
+    short = ((phase[..., 1] + phase[..., 2]) * 60 < min_gap - 0.5)[..., None, None]
+    return torch.where(short, rel.detach(), rel)
 
 
 def supervised(skel, root, rot, pos, gt_root, gt_rot, gpos, w):
@@ -543,7 +557,7 @@ def train(args):
             batch, _, sup = make_batch(clips, skel, args.batch, args.frames, rng, args.mirror, args.cross_clip)
             batch = [x.to(dev, non_blocking=True) for x in batch]
             with torch.no_grad():
-                o = losses(net, skel, batch, w, sup, adv)
+                o = losses(net, skel, batch, w, sup, adv, args.gan_min_gap)
             ld = adv.d_step(o["_grel"], o["_rel"]) if "_grel" in o else None
             if (i + 1) % 50 == 0:
                 print(json.dumps({"d_warmup": i + 1, "D": ld}), flush=True)
@@ -562,7 +576,7 @@ def train(args):
     while time.time() - t0 < args.minutes * 60:
         batch, _, sup = make_batch(clips, skel, args.batch, args.frames, rng, args.mirror, args.cross_clip)
         batch = [x.to(dev, non_blocking=True) for x in batch]
-        out = losses(net, skel, batch, w, sup, adv)
+        out = losses(net, skel, batch, w, sup, adv, args.gan_min_gap)
         opt.zero_grad()
         out["total"].backward()
         torch.nn.utils.clip_grad_norm_(net.parameters(), 1.0)
@@ -866,6 +880,9 @@ def main():
     ap.add_argument("--lr-d", type=float, default=1e-4, help="the discriminator's learning rate (Adam)")
     ap.add_argument("--d-warmup", type=int, default=300,
                     help="discriminator-only steps when the checkpoint has no discriminator")
+    ap.add_argument("--gan-min-gap", type=int, default=0,
+                    help="train: the adversarial loss's gradient skips frames of intervals shorter than this "
+                         "(frames); the supervised terms alone train them (issue 19: the adversary cost L2P at gap 30)")
     ap.add_argument("--skip", action="store_true",
                     help="train: add a full-rate 1x1 skip from the input to the output convolution (zero at first; "
                          "for stride 2, issue 19's short gaps); a checkpoint with one keeps it")
