@@ -82,3 +82,16 @@ def test_the_adversarial_gradient_skips_frames_of_short_intervals(residual):
     assert grad[20][0, 1:10].abs().sum() == 0  # inside the 10-frame interval: none
     assert torch.equal(grad[20][0, 11:40], grad[0][0, 11:40])  # the 30-frame one keeps it
     assert grad[31].abs().sum() == 0
+
+
+def test_regular_keys_repeat_one_interval_and_end_on_the_last_frame(residual):
+    import numpy as np
+    rng = np.random.default_rng(0)
+    for _ in range(200):
+        keys = residual.sample_keys(480, rng, regular=1.0)
+        gaps = np.diff(keys)
+        assert keys[0] == 0 and keys[-1] == 479
+        assert len(set(gaps[:-1].tolist())) <= 1 and gaps.min() >= 15
+        assert gaps[-1] < 2 * 15 + gaps[0]  # the rest went to the last interval
+        free = residual.sample_keys(480, rng)
+        assert free[0] == 0 and free[-1] == 479 and np.diff(free).min() >= 1

@@ -226,7 +226,17 @@ def mirror(root, quat, skel):
     return r, q
 
 
-def sample_keys(n, rng, lo=15, hi=MAX_GAP):
+def sample_keys(n, rng, lo=15, hi=MAX_GAP, regular=0.0):
+    """Key frames of an n-frame window: 0, n - 1 and between them intervals
+    drawn log-uniformly from [lo, hi] frames (the last one absorbs a rest
+    shorter than lo); with probability `regular` one interval is drawn and
+    repeated (keys at a regular spacing, as animators often set them)."""
+    if regular > 0 and rng.random() < regular:
+        g = int(math.exp(rng.uniform(math.log(lo), math.log(hi))))
+        keys = list(range(0, n - 1, g))
+        if n - 1 - keys[-1] < lo and len(keys) > 1:
+            keys.pop()
+        return keys + [n - 1]
     keys, t = [0], 0
     while t < n - 1:
         g = int(math.exp(rng.uniform(math.log(lo), math.log(hi))))
@@ -369,7 +379,7 @@ def fk(skel, root, rot, offsets):
 
 # ---------------------------------------------------------------- training
 
-def make_batch(clips, skel, b, n, rng, do_mirror, cross_p=0.0):
+def make_batch(clips, skel, b, n, rng, do_mirror, cross_p=0.0, regular=0.0):
     """b windows of n frames with random keys: the stacked features and
     offsets, the key lists, and which windows have a ground truth (False
     where `cross_p` spliced in keys from another clip, residual_adv.cross_clip;
@@ -381,7 +391,7 @@ def make_batch(clips, skel, b, n, rng, do_mirror, cross_p=0.0):
         if do_mirror and rng.random() < 0.5:
             root, quat = mirror(root, quat, skel)
             off = skel.mirror_offsets
-        keys = sample_keys(n, rng)
+        keys = sample_keys(n, rng, regular=regular)
         spliced = False
         if cross_p > 0:
             root_b, quat_b = clips.window(n, rng)
@@ -554,7 +564,7 @@ def train(args):
     if adv is not None and not (s is not None and adv.load(s)):
         # no discriminator yet: train one against the network as it is first
         for i in range(args.d_warmup):
-            batch, _, sup = make_batch(clips, skel, args.batch, args.frames, rng, args.mirror, args.cross_clip)
+            batch, _, sup = make_batch(clips, skel, args.batch, args.frames, rng, args.mirror, args.cross_clip, args.regular_keys)
             batch = [x.to(dev, non_blocking=True) for x in batch]
             with torch.no_grad():
                 o = losses(net, skel, batch, w, sup, adv, args.gan_min_gap)
@@ -574,7 +584,7 @@ def train(args):
         os.replace(ck + ".tmp", ck)
 
     while time.time() - t0 < args.minutes * 60:
-        batch, _, sup = make_batch(clips, skel, args.batch, args.frames, rng, args.mirror, args.cross_clip)
+        batch, _, sup = make_batch(clips, skel, args.batch, args.frames, rng, args.mirror, args.cross_clip, args.regular_keys)
         batch = [x.to(dev, non_blocking=True) for x in batch]
         out = losses(net, skel, batch, w, sup, adv, args.gan_min_gap)
         opt.zero_grad()
@@ -880,6 +890,9 @@ def main():
     ap.add_argument("--lr-d", type=float, default=1e-4, help="the discriminator's learning rate (Adam)")
     ap.add_argument("--d-warmup", type=int, default=300,
                     help="discriminator-only steps when the checkpoint has no discriminator")
+    ap.add_argument("--regular-keys", type=float, default=0.0,
+                    help="train: the share of windows whose keys are evenly spaced (one interval drawn and repeated; "
+                         "the rest draw each interval)")
     ap.add_argument("--gan-min-gap", type=int, default=0,
                     help="train: the adversarial loss's gradient skips frames of intervals shorter than this "
                          "(frames); the supervised terms alone train them (issue 19: the adversary cost L2P at gap 30)")
