@@ -21,8 +21,11 @@
 #        log.jsonl     the losses every 50 steps
 #
 # The width is the committed checkpoint's. Settings (environment): MINUTES (default 8, inside the 10-minute limit
-# with start-up and the write-back), BATCH (64), DEVICE (cuda), and the loss
-# weights of run G. Try it on the CPU first:
+# with start-up and the write-back), BATCH (64), DEVICE (cuda), PORTABLE (the
+# committed checkpoint to start from, default checkpoints/tween_resid.pt, e.g.
+# checkpoints/tween_resid_s2_skip.pt) and EXTRA (more `residual train` flags,
+# e.g. "--gan-weight 0.15 --gan-min-gap 60 --cross-clip 0.5 --regular-keys 0.3"),
+# with the loss weights of run G. Try it on the CPU first:
 #   OUT=/tmp/gpu_try DEVICE=cpu MINUTES=0.2 BATCH=2 bash train/gpu_job.sh
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -31,6 +34,8 @@ MINUTES=${MINUTES:-8}
 BATCH=${BATCH:-64}
 DEVICE=${DEVICE:-cuda}
 PY=${PY:-python3}
+PORTABLE=${PORTABLE:-checkpoints/tween_resid.pt}
+EXTRA=${EXTRA:-}
 [ -x .venv/bin/python ] && [ "$DEVICE" = cpu ] && PY=.venv/bin/python
 export PYTHONPATH="$PWD${PYTHONPATH:+:$PYTHONPATH}" PYTHONUNBUFFERED=1
 for f in cache/resid60.npz cache/l2p_sd.npy; do
@@ -49,7 +54,7 @@ mkdir -p "$RUN"
 "$PY" -m deeprep_train.motion.residual train --resume --device "$DEVICE" --out "$RUN" \
   --batch "$BATCH" --minutes "$MINUTES" --threads 8 \
   --dilations 1,2,4,8,16,32,64 --speed-weight 10 --foot-weight 2 --l2p-weight 1 --spectral-weight 5 \
-  --frames 480 --lr 3e-4 --save-every 200 --snapshot-every 1000000
+  --frames 480 --lr 3e-4 --save-every 200 --snapshot-every 1000000 --portable "$PORTABLE" $EXTRA
 "$PY" -m deeprep_train.motion.residual portable --out "$RUN" --to "$OUT/resid_gpu.pt"
 mv "$RUN/log.jsonl" "$OUT/log.jsonl"
 rm -rf "$RUN"   # ckpt.pt (Adam state, about 30 MB) is over the 16 MiB a file may bring back
