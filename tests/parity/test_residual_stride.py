@@ -67,7 +67,6 @@ def test_the_full_rate_skip_starts_at_zero_and_round_trips_through_a_checkpoint(
         assert not torch.equal(skip(x), plain(x))
 
 
-
 def test_the_adversarial_gradient_skips_frames_of_short_intervals(residual):
     """--gan-min-gap: the adversary's loss moves only frames of intervals at
     least that long (the phase's frames since / to the keys give the length)."""

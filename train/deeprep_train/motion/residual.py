@@ -253,8 +253,10 @@ DILATIONS = (1, 2, 4, 8, 16, 32)
 
 
 def build(s):
-    """The network a checkpoint describes (older ones have no "dilations")."""
-    return ResidualTween(s["K"], s["width"], s.get("dilations", DILATIONS), s.get("stride", 1), s.get("skip", False))
+    """The network a checkpoint describes (older ones have no "dilations",
+    "stride" or "skip")."""
+    a = arch(s)
+    return ResidualTween(a["K"], a["width"], a["dilations"], a["stride"], a["skip"])
 
 
 def arch(s):
@@ -561,10 +563,13 @@ def train(args):
     skel.inv_sd = torch.from_numpy(1.0 / l2p_sd()).float().to(dev)
     # the adversarial stage (residual_adv): a discriminator, carried in the checkpoint
     adv = Adversary(len(skel.parents), args.lr_d, dev) if args.gan_weight > 0 else None
+    def draw():
+        return make_batch(clips, skel, args.batch, args.frames, rng, args.mirror, args.cross_clip, args.regular_keys)
+
     if adv is not None and not (s is not None and adv.load(s)):
         # no discriminator yet: train one against the network as it is first
         for i in range(args.d_warmup):
-            batch, _, sup = make_batch(clips, skel, args.batch, args.frames, rng, args.mirror, args.cross_clip, args.regular_keys)
+            batch, _, sup = draw()
             batch = [x.to(dev, non_blocking=True) for x in batch]
             with torch.no_grad():
                 o = losses(net, skel, batch, w, sup, adv, args.gan_min_gap)
@@ -584,7 +589,7 @@ def train(args):
         os.replace(ck + ".tmp", ck)
 
     while time.time() - t0 < args.minutes * 60:
-        batch, _, sup = make_batch(clips, skel, args.batch, args.frames, rng, args.mirror, args.cross_clip, args.regular_keys)
+        batch, _, sup = draw()
         batch = [x.to(dev, non_blocking=True) for x in batch]
         out = losses(net, skel, batch, w, sup, adv, args.gan_min_gap)
         opt.zero_grad()
