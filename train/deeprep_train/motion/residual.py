@@ -231,16 +231,17 @@ def sample_keys(n, rng, lo=15, hi=MAX_GAP, regular=0.0):
     drawn log-uniformly from [lo, hi] frames (the last one absorbs a rest
     shorter than lo); with probability `regular` one interval is drawn and
     repeated (keys at a regular spacing, as animators often set them)."""
+    def gap():
+        return int(math.exp(rng.uniform(math.log(lo), math.log(hi))))
+
     if regular > 0 and rng.random() < regular:
-        g = int(math.exp(rng.uniform(math.log(lo), math.log(hi))))
-        keys = list(range(0, n - 1, g))
+        keys = list(range(0, n - 1, gap()))
         if n - 1 - keys[-1] < lo and len(keys) > 1:
             keys.pop()
         return keys + [n - 1]
     keys, t = [0], 0
     while t < n - 1:
-        g = int(math.exp(rng.uniform(math.log(lo), math.log(hi))))
-        t = min(t + g, n - 1)
+        t = min(t + gap(), n - 1)
         if n - 1 - t < lo:
             t = n - 1
         keys.append(t)
@@ -563,6 +564,7 @@ def train(args):
     skel.inv_sd = torch.from_numpy(1.0 / l2p_sd()).float().to(dev)
     # the adversarial stage (residual_adv): a discriminator, carried in the checkpoint
     adv = Adversary(len(skel.parents), args.lr_d, dev) if args.gan_weight > 0 else None
+
     def draw():
         return make_batch(clips, skel, args.batch, args.frames, rng, args.mirror, args.cross_clip, args.regular_keys)
 
