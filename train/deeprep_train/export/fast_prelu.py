@@ -23,13 +23,13 @@ bundled file:
 (motion/recover_checkpoint.py).
 """
 import argparse
-import json
-import os
 import re
 
 import numpy as np
 import onnx
 from onnx import helper, numpy_helper
+
+from deeprep_train.export.util import rewrite_files
 
 ALPHA = 0.01
 
@@ -132,22 +132,7 @@ def main():
                                              "a parity fixture beside the file (fixtures/<name>.json) gets "
                                              "the rewritten file's onnxruntime output.")
     ap.add_argument("models", nargs="+", help="ONNX files to rewrite")
-    for path in ap.parse_args().models:
-        from deeprep_train.export.half_weights import run
-        from deeprep_train.export.util import write_json
-        fpath = os.path.join(os.path.dirname(path), "fixtures", os.path.basename(path)[:-len(".onnx")] + ".json")
-        fixture = json.load(open(fpath)) if os.path.exists(fpath) else None
-        ref = run(path, fixture) if fixture else None
-        m = onnx.load(path)
-        n = rewrite(m)
-        onnx.save(m, path)
-        moved = ""
-        if fixture:
-            out = run(path, fixture)
-            moved = f", fixture output moved {float(np.abs(out - ref).max()):.2e}"
-            fixture["output_onnxruntime"] = [float(x) for x in out.ravel()]
-            write_json(fpath, fixture)
-        print(f"{path}: {n} PReLUs rewritten{moved}")
+    rewrite_files(ap.parse_args().models, rewrite, "PReLUs")
 
 
 if __name__ == "__main__":

@@ -35,3 +35,29 @@ def initializer_arrays(model):
                 and arrays[n.input[0]].dtype == np.float16:
             arrays[n.output[0]] = arrays.pop(n.input[0]).astype(np.float32)
     return arrays
+
+
+def rewrite_files(paths, rewrite, what):
+    """Applies a graph rewrite (`rewrite(model)` -> how many places) to ONNX
+    files in place; a parity fixture beside a file (fixtures/<name>.json)
+    gets the rewritten file's onnxruntime output, and the line printed says
+    how far that output moved."""
+    import os
+
+    import numpy as np
+    import onnx
+    from deeprep_train.export.half_weights import run
+    for path in paths:
+        fpath = os.path.join(os.path.dirname(path), "fixtures", os.path.basename(path)[:-len(".onnx")] + ".json")
+        fixture = json.load(open(fpath)) if os.path.exists(fpath) else None
+        ref = run(path, fixture) if fixture else None
+        m = onnx.load(path)
+        n = rewrite(m)
+        onnx.save(m, path)
+        moved = ""
+        if fixture:
+            out = run(path, fixture)
+            moved = f", fixture output moved {float(np.abs(out - ref).max()):.2e}"
+            fixture["output_onnxruntime"] = [float(x) for x in out.ravel()]
+            write_json(fpath, fixture)
+        print(f"{path}: {n} {what} rewritten{moved}")

@@ -4,7 +4,8 @@ time:
   mesh_encoder.onnx   positions [batch, V, 3] (normalized) -> latent [batch, L, C]
   mesh_decoder.onnx   latent [batch, L, C] -> positions [batch, V, 3] (normalized)
 Each conv is a gather of the neighbourhood table and a batched MatMul over
-vertices. --form factored (the default) stores A and B and lets the runtime
+vertices; each residual pooling's weighted sum is a MatMul too
+(export/fast_pool.py). --form factored (the default) stores A and B and lets the runtime
 fold W = A·B once at load (small files); --form matmul / einsum store W
 itself (large files) with a MatMul or an Einsum; tests/native/mesh_model.rs
 times the forms in tract.
@@ -12,16 +13,17 @@ times the forms in tract.
 Run: train/.venv/bin/python -m deeprep_train.mesh.export [--name full] [--form matmul]
 """
 import argparse
-import json
 import os
 
 import numpy as np
+import onnx
 import onnxruntime as ort
 import torch
 from torch import nn
 
 from deeprep_train.paths import CACHE as CACHE_ROOT  # noqa: E402
-from deeprep_train.mesh.model import AvgPool, MeshAE, VdRes, density, load_topology  # noqa: E402
+from deeprep_train.mesh.model import AvgPool, MeshAE, density, load_topology  # noqa: E402
+from deeprep_train.export import fast_pool  # noqa: E402
 from deeprep_train.export.util import ONNX_DIR, git_commit, write_json  # noqa: E402
 
 CACHE = os.path.join(CACHE_ROOT, "mesh")
@@ -147,6 +149,9 @@ def main():
         path = os.path.join(args.out, f"{name}{args.suffix}.onnx")
         torch.onnx.export(mod, (inp,), path, dynamo=False, opset_version=17, input_names=[iname], output_names=[oname],
                           dynamic_axes={iname: {0: "batch"}, oname: {0: "batch"}})
+        graph = onnx.load(path)
+        fast_pool.rewrite(graph)  # the pooling sums in the form tract runs fastest (issue 23)
+        onnx.save(graph, path)
         sess = ort.InferenceSession(path, providers=["CPUExecutionProvider"])
         o = sess.run(None, {iname: inp.numpy()})[0]
         with torch.no_grad():
@@ -169,6 +174,7 @@ def main():
             "normalization": {"center": ck["center"], "height": ck["height"],
                               "meaning": "network positions = (welded vertex positions - center) / height"},
             "op_form": args.form,
+            "pooling_form": "MatMul of the pooling weights and the gathered neighbourhood (export/fast_pool.py)",
             "latent_seeds": topo["seeds"],
             "levels": [len(topo["rest"])] + [len(l["selected"]) for l in topo["levels"]],
             "training": res,
