@@ -74,8 +74,14 @@ def main():
         npss_margin = ", ".join(f"{100 * (1 - ev[f'{R}@{g}']['NPSS'] / ev[f'slerp@{g}']['NPSS']):.2f}%" for g in gaps)
         far = [g for g in (120, 300) if abs(1 - ev[f"{R}@{g}"]["speed_ratio"]) > 0.3]
         speed_ok = "met" if not far else "not met at " + ", ".join(map(str, far))
+        # how it was trained: the manifest's recipe (`residual export --recipe`), else the supervised runs A-G
+        recipe = resid["training"].get("recipe") or (
+            "L1 losses, a joint-speed loss, contact-aware foot velocity and a loss in L2P's units and one on short-time "
+            "spectra (`train/deeprep_train/motion/residual.py`, runs A-G in train/README.md; issue 19's supervised stage, "
+            "no adversarial loss)")
+        adversarial = "recipe" in resid["training"] and "adversar" in resid["training"]["recipe"]
         res_row = (f"| `tween_residual.onnx` | the same frames, mirrored, {resid['training']['steps']:,} steps × 8 windows of 360-480 frames "
-                   f"with key gaps of 15-300 frames, one CPU thread, L1 losses, a joint-speed loss, contact-aware foot velocity and a loss in L2P's units and one on short-time spectra (`train/deeprep_train/motion/residual.py`, runs A-G in train/README.md; issue 19's supervised stage, no adversarial loss) "
+                   f"with key gaps of 15-300 frames, one CPU thread, {recipe} "
                    f"| as trained (`--method residual --variation 1`) on validation: beats SLERP+LERP on L2P at gaps {rw('L2P')}, on NPSS at {rw('NPSS')}, "
                    f"on L2Q at {rw('L2Q')}; joint speed {fmt(R, 'speed_ratio')} of the truth's at gaps 30/60/120/300 "
                    f"(SLERP+LERP {fmt('slerp', 'speed_ratio')}) |\n")
@@ -84,15 +90,15 @@ def main():
                         if resid.get("default_for_whole_pose_keys") else
                         "it is not the default method: `train/deeprep_train/motion/pick_residual.py` makes it so only when it beats the generator "
                         "on L2P and NPSS at every gap on training takes, which it did not (docs/inbetween_residual_default_train.json)")
-        res_text = (f"The supervised residual network as trained (`--method residual --variation 1`, `tween_residual.onnx`: "
-                    f"SLERP+LERP in the first key's frame plus a learned correction, keys exact by construction; issue 19's first "
-                    f"stage) beats SLERP+LERP on L2P at gaps {rw('L2P')} and on NPSS at {rw('NPSS')} (by {npss_margin}). Its joint "
+        res_text = (f"The residual network as trained (`--method residual --variation 1`, `tween_residual.onnx`: "
+                    f"SLERP+LERP in the first key's frame plus a learned correction, keys exact by construction; issue 19) beats SLERP+LERP on L2P at gaps {rw('L2P')} and on NPSS at {rw('NPSS')} (by {npss_margin}). Its joint "
                     f"speed is {fmt(R, 'speed_ratio')} of the truth's at gaps 30/60/120/300 (SLERP+LERP's "
                     f"{fmt('slerp', 'speed_ratio')}); issue 19 asks for within 30% of the truth's at 120 and 300: {speed_ok}. "
-                    f"Its default variation is {resid.get('variation', 1.0):g} (chosen on training takes). It is trained with "
-                    f"supervision only (no adversarial stage, no Motion DNA); {default_note}.\n")
+                    f"Its default variation is {resid.get('variation', 1.0):g} (chosen on training takes). It is trained "
+                    + ("with supervision, then an adversarial stage (train/README.md; no Motion DNA)" if adversarial else
+                       "with supervision only (no adversarial stage, no Motion DNA)") + f"; {default_note}.\n")
     MODEL_TEXT = ("\"model\" is the default pipeline (`deeprep inbetween` without `--method`): for whole-pose keys "
-                  "without Motion DNA and gaps up to 600 frames it runs the supervised residual network at its default "
+                  "without Motion DNA and gaps up to 600 frames it runs the residual network at its default "
                   f"variation ({resid.get('variation', 1.0):g}); otherwise (partial keys, DNA, longer gaps) the generator "
                   f"pipeline at the generator's default variation ({variation:g}). Post-processing makes the keys exact."
                   if resid_default else
@@ -116,7 +122,7 @@ def main():
                         ("variation-1", "`--variation 1`, no foot locking (the residual network when it is the default)" if resid_default
                          else "networks as trained (`--variation 1`, no foot locking)"),
                         ("generator", "the Generative Tweening generator (`--method generator`, its default variation, no foot locking)"),
-                        ("residual", "supervised residual on SLERP+LERP (`--method residual`, at its default variation)"),
+                        ("residual", "residual network on SLERP+LERP (`--method residual`, at its default variation)"),
                         ("residual-1", "the residual network as trained (`--method residual --variation 1`)")]:
             if f"{m}@30" not in ev or metric not in ev[f"{m}@30"]:
                 continue

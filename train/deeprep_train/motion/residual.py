@@ -724,7 +724,7 @@ def export(args):
     write_json(os.path.join(ONNX_DIR, "tween_residual.manifest.json"), {
         "name": "tween_residual",
         "kind": "residual-tween",
-        "description": "supervised residual on SLERP+LERP in the first key's frame (train/deeprep_train/motion/residual.py; issue 19, stage 1)",
+        "description": "a learned residual on SLERP+LERP in the first key's frame (train/deeprep_train/motion/residual.py; issue 19)",
         "inputs": [{"name": "x", "shape": [1, cin, "frames"],
                     "channels": "root position in the first key's frame / scale (3), 6D of each joint with channels "
                                 "in file order, the root's in that frame (6K), then s, frames since the previous key / 60, "
@@ -734,7 +734,8 @@ def export(args):
         "gate_frames": GATE_FRAMES,
         "rotating": skel.rotating,
         "skeleton_bvh": gen_manifest["skeleton_bvh"],
-        "training": {"steps": int(s["step"]), **net.arch(), "checkpoint": os.path.relpath(args.ckpt, ROOT)},
+        "training": {"steps": int(s["step"]), **net.arch(), "checkpoint": os.path.relpath(args.ckpt, ROOT),
+                     **({"recipe": args.recipe} if args.recipe else {})},
         "parity_torch_vs_onnxruntime": parity,
         "training_data": "CMU train takes at 60 fps (59,290 frames, train/deeprep_train/motion/data.py's split and floor filter), mirrored",
         "training_code_commit": git_commit(),
@@ -909,6 +910,8 @@ def main():
     ap.add_argument("--stride", type=int, choices=[1, 2],
                     help="train: 2 runs the blocks at every second frame (half their arithmetic; issue 23); "
                          "default: the resumed checkpoint's, else 1")
+    ap.add_argument("--recipe", help="export: how the checkpoint was trained, one sentence for the manifest and the "
+                                     "README's models table (checkpoints do not record their training flags)")
     ap.add_argument("--resume", action="store_true")
     ap.add_argument("--portable", default=PORTABLE,
                     help="train --resume without a checkpoint in --out starts from this float16 file "
