@@ -19,12 +19,11 @@ product and its packing. Exporters call rewrite(); on bundled files:
 
   train/.venv/bin/python -m deeprep_train.export.fast_pool models/onnx/mesh_encoder.onnx ...
 """
-import argparse
 
 import onnx
 from onnx import numpy_helper
 
-from deeprep_train.export.util import rewrite_files
+from deeprep_train.export.util import rewrite_cli
 
 
 def rewrite(model):
@@ -75,11 +74,7 @@ def rewrite(model):
 
 
 def main():
-    ap = argparse.ArgumentParser(description="Rewrite the mesh models' weighted neighbourhood sums as a MatMul, "
-                                             "in place; a parity fixture beside the file (fixtures/<name>.json) "
-                                             "gets the rewritten file's onnxruntime output.")
-    ap.add_argument("models", nargs="+", help="ONNX files to rewrite")
-    rewrite_files(ap.parse_args().models, rewrite, "weighted sums")
+    rewrite_cli(rewrite, "weighted sums", "a MatMul (the mesh models' pooling)")
 
 
 if __name__ == "__main__":

@@ -22,14 +22,13 @@ bundled file:
 `slopes()` reads each PReLU's a back from a rewritten file
 (motion/recover_checkpoint.py).
 """
-import argparse
 import re
 
 import numpy as np
 import onnx
 from onnx import helper, numpy_helper
 
-from deeprep_train.export.util import rewrite_files
+from deeprep_train.export.util import rewrite_cli
 
 ALPHA = 0.01
 
@@ -128,11 +127,7 @@ def slopes(model):
 
 
 def main():
-    ap = argparse.ArgumentParser(description="Rewrite PReLUs as x + k * (leaky_relu(x) - x), in place; "
-                                             "a parity fixture beside the file (fixtures/<name>.json) gets "
-                                             "the rewritten file's onnxruntime output.")
-    ap.add_argument("models", nargs="+", help="ONNX files to rewrite")
-    rewrite_files(ap.parse_args().models, rewrite, "PReLUs")
+    rewrite_cli(rewrite, "PReLUs", "x + k * (leaky_relu(x) - x)")
 
 
 if __name__ == "__main__":

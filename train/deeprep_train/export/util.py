@@ -37,6 +37,17 @@ def initializer_arrays(model):
     return arrays
 
 
+def rewrite_cli(rewrite, what, form):
+    """The command line of a graph rewrite: ONNX files in, each rewritten in
+    place by `rewrite_files` (`what`: the places' name, `form`: what they
+    become, for --help)."""
+    import argparse
+    ap = argparse.ArgumentParser(description=f"Rewrite {what} as {form}, in place; a parity fixture beside the file "
+                                             "(fixtures/<name>.json) gets the rewritten file's onnxruntime output.")
+    ap.add_argument("models", nargs="+", help="ONNX files to rewrite")
+    rewrite_files(ap.parse_args().models, rewrite, what)
+
+
 def rewrite_files(paths, rewrite, what):
     """Applies a graph rewrite (`rewrite(model)` -> how many places) to ONNX
     files in place; a parity fixture beside a file (fixtures/<name>.json)
