@@ -5,17 +5,18 @@ weights, the identity skip's averaging) as
 
     y[b, n, :] = ReduceSum_e( Gather(x, idx)[b, n, e, :] * wts[0, n, e, 0] )
 
-which tract runs as a broadcast Mul and a Reduce<Sum> over the middle axis:
-22-28% of the mesh models' time in its plan, more than onnxruntime-web
-takes for the whole model (`cargo run --release --example profile_models`).
-This rewrite computes the same sum as one batched matrix product per
-vertex,
+which tract runs as a broadcast Mul and a Reduce<Sum> over the middle axis
+(the Reduce<Sum> alone 18-28% of the mesh models' time in tract's plan,
+natively and in wasm: `cargo run --release --example profile_models`,
+`node tests/web/bench_ort_page.mjs`). This rewrite computes the same sum as
+one batched matrix product per vertex,
 
     y[b, n, :] = Squeeze_2( MatMul(wts'[0, n, 0, :], Gather(x, idx)[b, n, :, :]) )
 
 with wts' the same values reshaped from [1, N, E, 1] to [1, N, 1, E] (no
 copy: the moved axis has length 1), so the models' time is tract's matrix
-product and its packing. Exporters call rewrite(); on bundled files:
+product and its packing (tract 17-30% faster in wasm; onnxruntime-web gains
+as much, README "Speed"). Exporters call rewrite(); on bundled files:
 
   train/.venv/bin/python -m deeprep_train.export.fast_pool models/onnx/mesh_encoder.onnx ...
 """
