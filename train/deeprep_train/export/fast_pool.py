@@ -50,9 +50,10 @@ def rewrite(model):
 
     count = 0
     for node in g.node:
-        if node.op_type != "ReduceSum" or len(node.input) != 2 or constant(node.input[1]) is None:
+        axes = constant(node.input[1]) if node.op_type == "ReduceSum" and len(node.input) == 2 else None
+        if axes is None:
             continue
-        axes = constant(node.input[1]).ravel().tolist()
+        axes = axes.ravel().tolist()
         keepdims = next((a.i for a in node.attribute if a.name == "keepdims"), 1)
         mul = by_out.get(node.input[0])
         if axes != [2] or keepdims != 0 or mul is None or mul.op_type != "Mul" or readers[mul.output[0]] != 1:

@@ -75,12 +75,13 @@ def main():
         far = [g for g in (120, 300) if abs(1 - ev[f"{R}@{g}"]["speed_ratio"]) > 0.3]
         speed_ok = "met" if not far else "not met at " + ", ".join(map(str, far))
         # how it was trained: the manifest's recipe (`residual export --recipe`), else the supervised runs A-G
-        recipe = resid["training"].get("recipe") or (
+        recipe = resid["training"].get("recipe")
+        how = recipe or (
             "L1 losses, a joint-speed loss, contact-aware foot velocity and a loss in L2P's units and one on short-time "
             "spectra (`train/deeprep_train/motion/residual.py`, runs A-G in train/README.md; issue 19's supervised stage, "
             "no adversarial loss)")
         res_row = (f"| `tween_residual.onnx` | the same frames, mirrored, {resid['training']['steps']:,} steps × 8 windows of 360-480 frames "
-                   f"with key gaps of 15-300 frames, one CPU thread, {recipe} "
+                   f"with key gaps of 15-300 frames, one CPU thread, {how} "
                    f"| as trained (`--method residual --variation 1`) on validation: beats SLERP+LERP on L2P at gaps {rw('L2P')}, on NPSS at {rw('NPSS')}, "
                    f"on L2Q at {rw('L2Q')}; joint speed {fmt(R, 'speed_ratio')} of the truth's at gaps 30/60/120/300 "
                    f"(SLERP+LERP {fmt('slerp', 'speed_ratio')}) |\n")
@@ -94,7 +95,7 @@ def main():
                     f"speed is {fmt(R, 'speed_ratio')} of the truth's at gaps 30/60/120/300 (SLERP+LERP's "
                     f"{fmt('slerp', 'speed_ratio')}); issue 19 asks for within 30% of the truth's at 120 and 300: {speed_ok}. "
                     f"Its default variation is {resid.get('variation', 1.0):g} (chosen on training takes). It is trained "
-                    + ("as the models table says (no Motion DNA)" if resid["training"].get("recipe") else
+                    + ("as the models table says (no Motion DNA)" if recipe else
                        "with supervision only (no adversarial stage, no Motion DNA)") + f"; {default_note}.\n")
     MODEL_TEXT = ("\"model\" is the default pipeline (`deeprep inbetween` without `--method`): for whole-pose keys "
                   "without Motion DNA and gaps up to 600 frames it runs the residual network at its default "
