@@ -74,11 +74,15 @@ test('hair page: reconstruct, compare with the truth, interpolate, photo path', 
 
   // Interpolation: A = L-wavy #7, B = XS-curly #3, halfway.
   await page.click('#keep-a');
+  // the click took effect: the button names what it kept (a failure here and not at the blend below
+  // says the click itself was lost)
+  await page.waitForSelector('#keep-a:text("A: L-wavy #7")', { timeout: 10_000 });
   await page.selectOption('#cls', 'XS-curly');
   await page.fill('#seed', '3');
   await page.dispatchEvent('#seed', 'change');
   await page.waitForSelector('body[data-input="XS-curly:3:20"]', { timeout: 60_000 });
   await page.click('#keep-b');
+  await page.waitForSelector('#keep-b:text("B: XS-curly #3")', { timeout: 10_000 });
   // keeping A and B enables the blend (waited for: one full CI run under load saw it still disabled here)
   await page.waitForSelector('#blend:not([disabled])', { timeout: 10_000 });
   await page.$eval('#blend', (el) => { el.value = '0.5'; el.dispatchEvent(new Event('input')); });
