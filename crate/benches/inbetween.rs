@@ -63,22 +63,10 @@ fn main() {
             variation: None,
         };
         // The first call at a length also optimizes tract's plan for it.
-        let t = Instant::now();
-        models.synthesize(&req, &|| 0.0).expect("synthesize");
-        let first_ms = t.elapsed().as_secs_f64() * 1e3;
-        let mut best = None::<deeprep::motion::pipeline::StageTimes>;
-        let mut total_best = f64::MAX;
-        for _ in 0..reps {
-            let start = Instant::now();
+        let (first_ms, total_best, b) = first_and_best(reps, |start| {
             let clock = || start.elapsed().as_secs_f64() * 1e3;
-            let out = models.synthesize(&req, &clock).expect("synthesize");
-            let total = start.elapsed().as_secs_f64() * 1e3;
-            if total < total_best {
-                total_best = total;
-                best = Some(out.times);
-            }
-        }
-        let b = best.expect("at least one run");
+            models.synthesize(&req, &clock).expect("synthesize").times
+        });
         let t = Instant::now();
         for _ in 0..reps {
             slerp_lerp(&req.keys, n).expect("baseline");
@@ -87,15 +75,9 @@ fn main() {
         // the residual network: first call at this length, then the best of reps
         let res = residual.as_ref().map(|r| {
             let v = r.default_variation;
-            let t = Instant::now();
-            r.synthesize(&req.keys, n, v).expect("residual");
-            let first = t.elapsed().as_secs_f64() * 1e3;
-            let mut best = f64::MAX;
-            for _ in 0..reps {
-                let t = Instant::now();
+            let (first, best, ()) = first_and_best(reps, |_| {
                 r.synthesize(&req.keys, n, v).expect("residual");
-                best = best.min(t.elapsed().as_secs_f64() * 1e3);
-            }
+            });
             format!(", \"residual_ms\": {best:.2}, \"residual_first_call_ms\": {first:.2}")
         });
         rows.push(format!(
@@ -108,4 +90,24 @@ fn main() {
         "{{\"bench\": \"inbetween\", \"target\": \"native\", \"threads\": 1, \"rows\": [\n  {}\n],\n \"thesis_table_5_3\": \"see README: the thesis reports GPU timings for its full-width model\"}}",
         rows.join(",\n  ")
     );
+}
+
+/// Times `run` once (the first call at a length, which also optimizes tract's plan
+/// for it), then `reps` more times; returns the first call's milliseconds, the best
+/// repeat's and that repeat's output. `run` gets the instant its call started.
+fn first_and_best<T>(reps: usize, mut run: impl FnMut(Instant) -> T) -> (f64, f64, T) {
+    let t = Instant::now();
+    let mut best_out = run(t);
+    let first = t.elapsed().as_secs_f64() * 1e3;
+    let mut best = f64::MAX;
+    for _ in 0..reps.max(1) {
+        let t = Instant::now();
+        let out = run(t);
+        let ms = t.elapsed().as_secs_f64() * 1e3;
+        if ms < best {
+            best = ms;
+            best_out = out;
+        }
+    }
+    (first, best, best_out)
 }
