@@ -126,7 +126,7 @@ fn synthesize(
         let (motion, info) = run_residual(o, &m, keys, frames)?;
         return Ok((
             motion,
-            format!("by the residual network (the model for whole-pose keys without DNA): {info}"),
+            format!("The residual network served it (the model for whole-pose keys without DNA): {info}"),
         ));
     }
     match o.method.as_str() {
