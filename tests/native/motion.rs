@@ -243,28 +243,43 @@ fn tract_matches_onnxruntime_on_the_tween_models() {
     fixture_parity("tween_residual");
 }
 
+/// The bundled residual network, or None (with a SKIP line) before it is exported.
+fn residual_model() -> Option<deeprep::motion::residual::ResidualModel> {
+    let dir = root().join("models/onnx");
+    if !dir.join("tween_residual.onnx").exists() {
+        eprintln!("SKIP: models/onnx/tween_residual.onnx is not exported yet");
+        return None;
+    }
+    Some(deeprep::motion::residual::ResidualModel::load_dir(&dir).unwrap())
+}
+
+/// Whole-pose keys at `frames`: the template's rest pose moved along x,
+/// turned about the root's first channel and bent at one joint, more with
+/// each key.
+fn posed_keys(template: &Bvh, frames: &[usize]) -> Vec<Keyframe> {
+    frames
+        .iter()
+        .enumerate()
+        .map(|(i, &f)| {
+            let mut b: Bvh = template.clone();
+            let mut ch = vec![0.0f32; b.channel_count()];
+            ch[0] = 40.0 * i as f32;
+            ch[1] = 85.0;
+            ch[3] = 30.0 * i as f32;
+            ch[7] = 20.0 - 15.0 * i as f32;
+            b.motion = ch;
+            Keyframe::from_bvh(&b, 0, f).unwrap()
+        })
+        .collect()
+}
+
 /// The residual network (issue 19, stage 1): keys exact by construction,
 /// variation 0 is SLERP+LERP exactly, frames outside the keys hold them,
 /// and bad variations are errors.
 #[test]
 fn the_residual_model_keeps_keys_and_scales_by_variation() {
-    let dir = root().join("models/onnx");
-    if !dir.join("tween_residual.onnx").exists() {
-        eprintln!("SKIP: models/onnx/tween_residual.onnx is not exported yet");
-        return;
-    }
-    let m = deeprep::motion::residual::ResidualModel::load_dir(&dir).unwrap();
-    let mut keys = Vec::new();
-    for (i, f) in [10usize, 70, 250].iter().enumerate() {
-        let mut b: Bvh = m.template.clone();
-        let mut ch = vec![0.0f32; b.channel_count()];
-        ch[0] = 40.0 * i as f32;
-        ch[1] = 85.0;
-        ch[3] = 30.0 * i as f32;
-        ch[7] = 20.0 - 15.0 * i as f32;
-        b.motion = ch;
-        keys.push(Keyframe::from_bvh(&b, 0, *f).unwrap());
-    }
+    let Some(m) = residual_model() else { return };
+    let keys = posed_keys(&m.template, &[10, 70, 250]);
     // when its manifest makes it the default for whole-pose keys, it serves
     // them without DNA and with gaps the generator reaches directly; longer
     // gaps go to the generator's hierarchical synthesis
@@ -334,25 +349,8 @@ fn turned(key: &Keyframe, angle: f64, dx: f64, dz: f64) -> Keyframe {
 /// same way (no augmentation needed; train/README.md's ablation table).
 #[test]
 fn the_residual_model_turns_and_moves_with_its_keys() {
-    let dir = root().join("models/onnx");
-    if !dir.join("tween_residual.onnx").exists() {
-        eprintln!("SKIP: models/onnx/tween_residual.onnx is not exported yet");
-        return;
-    }
-    let m = deeprep::motion::residual::ResidualModel::load_dir(&dir).unwrap();
-    let mut keys = Vec::new();
-    for (i, f) in [0usize, 90, 240].iter().enumerate() {
-        let mut b: Bvh = m.template.clone();
-        let mut ch = vec![0.0f32; b.channel_count()];
-        ch[0] = 60.0 * i as f32;
-        ch[1] = 85.0;
-        ch[2] = -25.0 * i as f32;
-        ch[3] = 40.0 * i as f32;
-        ch[7] = 20.0 - 15.0 * i as f32;
-        ch[10] = 10.0 * i as f32;
-        b.motion = ch;
-        keys.push(Keyframe::from_bvh(&b, 0, *f).unwrap());
-    }
+    let Some(m) = residual_model() else { return };
+    let keys = posed_keys(&m.template, &[0, 90, 240]);
     let frames = 260;
     let base = m.synthesize(&keys, frames, 1.0).unwrap();
     let (angle, dx, dz) = (2.1f64, 350.0, -120.0);
