@@ -316,19 +316,14 @@ fn the_residual_model_keeps_keys_and_scales_by_variation() {
     assert!(m.synthesize(&keys, frames, f32::NAN).is_err());
 }
 
-/// `key` turned about the vertical (y) by `angle` radians about the origin,
+/// `key` turned by `r` (a rotation about the vertical) about the origin,
 /// then moved by `dx`, `dz` on the floor: root position and root rotation
 /// turned, the other joints' root-relative world positions turned.
-fn turned(key: &Keyframe, angle: f64, dx: f64, dz: f64) -> Keyframe {
-    use deeprep::rotation::axis_angle::axis_angle_to_matrix;
-    let r = axis_angle_to_matrix(&[0.0, 1.0, 0.0], angle);
+fn turned(key: &Keyframe, r: &Mat3<f64>, dx: f64, dz: f64) -> Keyframe {
+    use deeprep::rotation::mul_vec;
     let mut k = key.clone();
     for (j, p) in k.positions.chunks_mut(3).enumerate() {
-        let v = [p[0] as f64, p[1] as f64, p[2] as f64];
-        let mut w = [0.0; 3];
-        for (a, row) in w.iter_mut().zip(&r) {
-            *a = row[0] * v[0] + row[1] * v[1] + row[2] * v[2];
-        }
+        let mut w = mul_vec(r, &[p[0] as f64, p[1] as f64, p[2] as f64]);
         if j == 0 {
             w[0] += dx;
             w[2] += dz;
@@ -338,7 +333,7 @@ fn turned(key: &Keyframe, angle: f64, dx: f64, dz: f64) -> Keyframe {
         }
     }
     if let Some(rot) = k.rotations.as_mut() {
-        rot[0] = deeprep::rotation::mul(&r, &rot[0]);
+        rot[0] = deeprep::rotation::mul(r, &rot[0]);
     }
     k
 }
@@ -353,18 +348,15 @@ fn the_residual_model_turns_and_moves_with_its_keys() {
     let keys = posed_keys(&m.template, &[0, 90, 240]);
     let frames = 260;
     let base = m.synthesize(&keys, frames, 1.0).unwrap();
-    let (angle, dx, dz) = (2.1f64, 350.0, -120.0);
-    let moved: Vec<_> = keys.iter().map(|k| turned(k, angle, dx, dz)).collect();
+    let (dx, dz) = (350.0, -120.0);
+    let r = deeprep::rotation::axis_angle::axis_angle_to_matrix(&[0.0, 1.0, 0.0], 2.1f64);
+    let moved: Vec<_> = keys.iter().map(|k| turned(k, &r, dx, dz)).collect();
     let out = m.synthesize(&moved, frames, 1.0).unwrap();
-    let r = deeprep::rotation::axis_angle::axis_angle_to_matrix(&[0.0, 1.0, 0.0], angle);
     let (mut root_err, mut rot_err) = (0.0f64, 0.0f64);
     for t in 0..frames {
-        let p = base.root[t];
-        let want = [
-            r[0][0] * p[0] + r[0][2] * p[2] + dx,
-            p[1],
-            r[2][0] * p[0] + r[2][2] * p[2] + dz,
-        ];
+        let mut want = deeprep::rotation::mul_vec(&r, &base.root[t]);
+        want[0] += dx;
+        want[2] += dz;
         for (a, b) in out.root[t].iter().zip(want) {
             root_err = root_err.max((a - b).abs());
         }
