@@ -7,9 +7,10 @@ results of branches trained from one state, each with one data step changed.
         --spread cache/abl_control/val_119000.json ... \\
         --json ../docs/inbetween_ablation.json
 
-The first row is the control. `--spread` takes the control's other
-snapshots: the range their numbers cover is what a branch's number moves
-by with no change at all, so a difference inside it is not an effect.
+The first row is the control. `--spread` takes the control's snapshots
+(its own among them, or not): the range their numbers cover is what a
+branch's number moves by with no change at all, so a difference inside it
+is not an effect.
 Prints a markdown table (ratios to SLERP+LERP on the same windows, below 1
 is better; joint speed as a share of the truth's) and writes every number
 to --json.
@@ -34,14 +35,14 @@ def scores(path):
 
 def table(rows, spread):
     """Markdown lines for labelled rows [(label, scores)] and the spread
-    [(metric, gap index) -> (lo, hi)] of the control's snapshots."""
+    {metric: [(lo, hi) per gap]} of the control's snapshots (or None)."""
     fmt = lambda v, d: " / ".join(f"{x:.{d}f}" for x in v)  # noqa: E731
     lines = ["| data | L2P ratio | NPSS ratio | joint speed |", "|---|---|---|---|"]
     for label, s in rows:
         lines.append(f"| {label} | {fmt(s['l2p'], 3)} | {fmt(s['npss'], 3)} | {fmt(s['speed'], 2)} |")
     if spread:
         cell = lambda m, d: " / ".join(f"{lo:.{d}f}-{hi:.{d}f}" for lo, hi in spread[m])  # noqa: E731
-        lines.append(f"| control's other snapshots (range) | {cell('l2p', 3)} | {cell('npss', 3)} "
+        lines.append(f"| the control's snapshots (range) | {cell('l2p', 3)} | {cell('npss', 3)} "
                      f"| {cell('speed', 2)} |")
     return lines
 
@@ -49,7 +50,7 @@ def table(rows, spread):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("rows", nargs="+", help="LABEL=EVAL_JSON, the control first")
-    ap.add_argument("--spread", nargs="*", default=[], help="the control's other snapshots' eval JSON files")
+    ap.add_argument("--spread", nargs="*", default=[], help="the control's snapshots' eval JSON files")
     ap.add_argument("--json")
     args = ap.parse_args()
     rows, meta, gaps = [], [], None
