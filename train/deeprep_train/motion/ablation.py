@@ -21,14 +21,21 @@ import json
 METRICS = ("l2p", "npss", "speed")
 
 
+def ratio_to_slerp(g, metric):
+    """The model's `metric` over SLERP+LERP's on the same windows, per gap in
+    increasing order, from the "gaps" of one `residual eval --json` file
+    (gaps whose model lacks the metric are left out). The one place this
+    ratio is taken: the ablation table and `residual pick` both use it."""
+    return [g[k]["model"][metric] / g[k]["slerp"][metric] for k in sorted(g, key=int) if metric in g[k]["model"]]
+
+
 def scores(path):
     """{metric: [value per gap]} and the gaps of one `residual eval --json`
     file: L2P and NPSS as ratios to SLERP+LERP's, joint speed as given."""
     r = json.load(open(path))
     g = r["gaps"]
     gaps = sorted(g, key=int)
-    out = {"l2p": [g[k]["model"]["l2p"] / g[k]["slerp"]["l2p"] for k in gaps],
-           "npss": [g[k]["model"]["npss"] / g[k]["slerp"]["npss"] for k in gaps],
+    out = {"l2p": ratio_to_slerp(g, "l2p"), "npss": ratio_to_slerp(g, "npss"),
            "speed": [g[k]["model"]["speed_ratio"] for k in gaps]}
     return gaps, out, r.get("split"), r.get("ckpt")
 

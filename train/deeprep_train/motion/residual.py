@@ -40,6 +40,7 @@ import torch.nn.functional as F
 from deeprep_train.paths import ROOT, CACHE  # noqa: E402
 from deeprep_train.motion.data import DATA, TRUE_FPS, VALIDATION, floor_segments, runs, take_of, MIN_SEGMENT  # noqa: E402
 from deeprep_train.bvh import fk_from_local, local_fk, mat_to_quat, mirror_joints, read_bvh  # noqa: E402
+from deeprep_train.motion.ablation import ratio_to_slerp  # noqa: E402
 from deeprep_train.motion.eval import l2p_stats, npss  # noqa: E402
 from deeprep_train.motion.residual_adv import MAX_GAP, Adversary, cross_clip  # noqa: E402
 from deeprep_train.rotation import matrix_to_6d, quat_to_matrix, sixd_to_matrix  # noqa: E402
@@ -760,16 +761,16 @@ def pick(args):
     for path in args.results:
         r = json.load(open(path))
         g = r["gaps"]
-        ratio = lambda k: [g[x]["model"][k] / g[x]["slerp"][k] for x in g if k in g[x]["model"]]  # noqa: E731
+        ratio = lambda k: ratio_to_slerp(g, k)  # noqa: E731
         wins = all(v < 1 for v in ratio("mpjpe") + ratio("npss") + ratio("l2p"))
         speed = [abs(1 - g[x]["model"]["speed_ratio"]) for x in ("120", "300") if x in g]
-        npss_long = [g[x]["model"]["npss"] / g[x]["slerp"]["npss"] for x in ("120", "300") if x in g]
+        npss_long = ratio_to_slerp({x: g[x] for x in ("120", "300") if x in g}, "npss")
         targets = wins and bool(ratio("l2p")) and all(v <= 0.9 for v in npss_long) \
             and all(v <= 0.3 - args.speed_margin for v in speed) \
             and all(v <= 1 - args.l2p_margin for v in ratio("l2p"))
         rows.append({"ckpt": r["ckpt"], "beats_slerp_everywhere": wins, "meets_issue_targets": targets,
                      "mpjpe_ratio": ratio("mpjpe"), "l2p_ratio": ratio("l2p"),
-                     "npss_ratio": ratio("npss"), "speed_ratio": [g[x]["model"]["speed_ratio"] for x in g],
+                     "npss_ratio": ratio("npss"), "speed_ratio": [g[x]["model"]["speed_ratio"] for x in sorted(g, key=int)],
                      "speed_gap_120_300": float(np.mean(speed)), "mean_mpjpe_ratio": float(np.mean(ratio("mpjpe"))),
                      "mean_l2p_ratio": float(np.mean(ratio("l2p"))) if ratio("l2p") else None})
     met = [r for r in rows if r["meets_issue_targets"]]
