@@ -41,9 +41,9 @@ pub fn fixture(name: &str) -> serde_json::Value {
 /// plan and with the plan for any shape. For outputs far above 1 the bound
 /// is one millionth of the largest expected value when that is larger (a
 /// float32 sum in another order differs by a few ulps of what it sums, and
-/// an ulp grows with the value: 8e-6 at 130, where the residual network's
-/// outputs reach); every fixture but tween_residual's stays below 5, where
-/// `tol` is the bound.
+/// an ulp grows with the value: 1.5e-5 at 130, where the residual network's
+/// outputs reach, so the bound there is about 8 ulps); every fixture but
+/// tween_residual's stays below 5, where `tol` is the bound.
 pub fn fixture_parity(name: &str, tol: f32) {
     let f = fixture(name);
     let inputs: Vec<TensorF32> = match f["inputs"].as_object() {
