@@ -761,18 +761,18 @@ def pick(args):
     for path in args.results:
         r = json.load(open(path))
         g = r["gaps"]
-        ratio = lambda k: ratio_to_slerp(g, k)  # noqa: E731
-        wins = all(v < 1 for v in ratio("mpjpe") + ratio("npss") + ratio("l2p"))
+        mpjpe, l2p, npss_r = (ratio_to_slerp(g, k) for k in ("mpjpe", "l2p", "npss"))
+        wins = all(v < 1 for v in mpjpe + npss_r + l2p)
         speed = [abs(1 - g[x]["model"]["speed_ratio"]) for x in ("120", "300") if x in g]
         npss_long = ratio_to_slerp({x: g[x] for x in ("120", "300") if x in g}, "npss")
-        targets = wins and bool(ratio("l2p")) and all(v <= 0.9 for v in npss_long) \
+        targets = wins and bool(l2p) and all(v <= 0.9 for v in npss_long) \
             and all(v <= 0.3 - args.speed_margin for v in speed) \
-            and all(v <= 1 - args.l2p_margin for v in ratio("l2p"))
+            and all(v <= 1 - args.l2p_margin for v in l2p)
         rows.append({"ckpt": r["ckpt"], "beats_slerp_everywhere": wins, "meets_issue_targets": targets,
-                     "mpjpe_ratio": ratio("mpjpe"), "l2p_ratio": ratio("l2p"),
-                     "npss_ratio": ratio("npss"), "speed_ratio": [g[x]["model"]["speed_ratio"] for x in sorted(g, key=int)],
-                     "speed_gap_120_300": float(np.mean(speed)), "mean_mpjpe_ratio": float(np.mean(ratio("mpjpe"))),
-                     "mean_l2p_ratio": float(np.mean(ratio("l2p"))) if ratio("l2p") else None})
+                     "mpjpe_ratio": mpjpe, "l2p_ratio": l2p,
+                     "npss_ratio": npss_r, "speed_ratio": [g[x]["model"]["speed_ratio"] for x in sorted(g, key=int)],
+                     "speed_gap_120_300": float(np.mean(speed)), "mean_mpjpe_ratio": float(np.mean(mpjpe)),
+                     "mean_l2p_ratio": float(np.mean(l2p)) if l2p else None})
     met = [r for r in rows if r["meets_issue_targets"]]
     ok = [r for r in rows if r["beats_slerp_everywhere"]]
     if met:
