@@ -22,6 +22,32 @@ use tract_onnx::prelude::*;
 
 type Plan = TypedSimplePlan;
 
+/// Clears the upper halves of the x86-64 vector registers (`vzeroupper`)
+/// after a tract operator has run. tract 0.23.9's x86-64 matrix kernels
+/// (AVX and AVX-512 assembly, `tract-linalg/x86_64/*/postamble.j2`) return
+/// without `vzeroupper`, and until one runs, every SSE instruction (our
+/// Rust code, built for baseline x86-64, and glibc's `atan2` wrapper) pays
+/// the AVX-SSE transition penalty: 88,064 matrix-to-Euler conversions (a
+/// 2,048-frame BVH) took 76 ms after one residual-network run by tract
+/// directly, against 15 ms before any network and 12 ms after the same run
+/// through [`Model::run`] (`cargo run --release --example vector_state`, on
+/// an AVX-512 machine). A no-op elsewhere (wasm, other architectures, CPUs
+/// without AVX).
+#[inline]
+fn clear_upper_vector_state() {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx") {
+        // SAFETY: `zeroupper` needs AVX, which the CPU was just found to have.
+        unsafe { zeroupper() }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+fn zeroupper() {
+    std::arch::x86_64::_mm256_zeroupper();
+}
+
 /// One node's time in [`Model::profile`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct NodeTime {
@@ -224,7 +250,16 @@ impl Model {
             crate::error::check_finite(&format!("model input {i}"), &t.data)?;
         }
         let (plan, tv) = self.plan_and_values(inputs)?;
-        let out = plan.run(tv).map_err(model_err)?;
+        let mut state = tract_onnx::tract_core::plan::SimpleState::new(&plan).map_err(model_err)?;
+        // tract's own evaluation, node by node, with the vector state cleared
+        // after each (see `clear_upper_vector_state`)
+        let out = state
+            .run_plan_with_eval(tv, |ctx, op_state, node, input| {
+                let r = tract_onnx::tract_core::plan::eval(ctx, op_state, node, input);
+                clear_upper_vector_state();
+                r
+            })
+            .map_err(model_err)?;
         out.iter()
             .map(|v| {
                 let t = v.cast_to::<f32>().map_err(model_err)?;
@@ -267,6 +302,7 @@ impl Model {
             .run_plan_with_eval(tv, |ctx, op_state, node, input| {
                 let t0 = clock();
                 let r = tract_onnx::tract_core::plan::eval(ctx, op_state, node, input);
+                clear_upper_vector_state();
                 times.push(NodeTime {
                     node: node.name.clone(),
                     op: node.op().name().to_string(),
