@@ -542,9 +542,17 @@ pub(crate) fn push_display_f32(s: &mut String, v: f32, buf: &mut zmij::Buffer) {
         return;
     }
     let text = buf.format_finite(v);
-    if !text.contains(['e', 'E']) {
+    // bytes, not a char pattern: `contains(['e', 'E'])` decoded every char
+    // and was most of a 2,048-frame BVH's writing time
+    if !text.bytes().any(|b| b == b'e' || b == b'E') {
         // the common case: already laid out, maybe with a ".0" to drop
-        s.push_str(text.strip_suffix(".0").unwrap_or(text));
+        let t = text.as_bytes();
+        let keep = if t.ends_with(b".0") {
+            t.len() - 2
+        } else {
+            t.len()
+        };
+        s.push_str(&text[..keep]);
         return;
     }
     let (neg, body) = match text.strip_prefix('-') {
