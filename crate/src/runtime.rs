@@ -250,16 +250,20 @@ impl Model {
             crate::error::check_finite(&format!("model input {i}"), &t.data)?;
         }
         let (plan, tv) = self.plan_and_values(inputs)?;
-        let mut state = tract_onnx::tract_core::plan::SimpleState::new(&plan).map_err(model_err)?;
-        // tract's own evaluation, node by node, with the vector state cleared
-        // after each (see `clear_upper_vector_state`)
-        let out = state
-            .run_plan_with_eval(tv, |ctx, op_state, node, input| {
-                let r = tract_onnx::tract_core::plan::eval(ctx, op_state, node, input);
-                clear_upper_vector_state();
-                r
+        // on x86-64, tract's own evaluation node by node with the vector
+        // state cleared after each (see `clear_upper_vector_state`)
+        #[cfg(target_arch = "x86_64")]
+        let out = tract_onnx::tract_core::plan::SimpleState::new(&plan)
+            .and_then(|mut state| {
+                state.run_plan_with_eval(tv, |ctx, op_state, node, input| {
+                    let r = tract_onnx::tract_core::plan::eval(ctx, op_state, node, input);
+                    clear_upper_vector_state();
+                    r
+                })
             })
             .map_err(model_err)?;
+        #[cfg(not(target_arch = "x86_64"))]
+        let out = plan.run(tv).map_err(model_err)?;
         out.iter()
             .map(|v| {
                 let t = v.cast_to::<f32>().map_err(model_err)?;

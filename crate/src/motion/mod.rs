@@ -308,8 +308,10 @@ impl Motion {
         out.frame_time = frame_time;
         let c = template.channel_count();
         out.motion = Vec::with_capacity(c * self.len());
+        let orders = crate::skeleton::pose::rotation_orders(template);
         for pose in self.poses(template)? {
-            out.motion.extend(pose.to_row(template)?);
+            out.motion
+                .extend(pose.to_row_with_orders(template, &orders)?);
         }
         Ok(out)
     }

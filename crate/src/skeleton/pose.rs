@@ -56,6 +56,13 @@ pub fn rotation_order(bvh: &Bvh, joint: usize) -> Option<EulerOrder> {
         .flatten()
 }
 
+/// [`rotation_order`] of every joint.
+pub fn rotation_orders(bvh: &Bvh) -> Vec<Option<EulerOrder>> {
+    (0..bvh.joints.len())
+        .map(|j| rotation_order(bvh, j))
+        .collect()
+}
+
 /// A joint's offset from its parent, in double precision.
 pub fn offset(joint: &super::bvh::Joint) -> DVec3 {
     DVec3::new(
@@ -154,6 +161,16 @@ impl Pose {
     /// their rotation channels are written as 0 (no BVH this project reads
     /// or writes has them).
     pub fn to_row(&self, bvh: &Bvh) -> Result<Vec<f32>> {
+        self.to_row_with_orders(bvh, &rotation_orders(bvh))
+    }
+
+    /// [`Pose::to_row`] with each joint's Euler order given
+    /// ([`rotation_orders`] of `bvh`), for writing many frames.
+    pub(crate) fn to_row_with_orders(
+        &self,
+        bvh: &Bvh,
+        orders: &[Option<EulerOrder>],
+    ) -> Result<Vec<f32>> {
         let n = bvh.joints.len();
         if self.rotations.len() != n || self.translations.len() != n {
             return Err(Error::Shape {
@@ -164,7 +181,7 @@ impl Pose {
         }
         let mut row = vec![0.0f32; bvh.channel_count()];
         for (j, joint) in bvh.joints.iter().enumerate() {
-            let angles = match rotation_order(bvh, j) {
+            let angles = match orders[j] {
                 Some(order) => matrix_to_euler(&from_glam_f64(&self.rotations[j]), order),
                 None => [0.0; 3],
             };
