@@ -1,7 +1,7 @@
 //! The AVX-SSE transition penalty after tract's x86-64 matrix kernels
-//! (issue 23, "the native RC-FK anomaly"): the same 2,048 frames × 43
-//! joints of matrix-to-Euler conversions (what writing a BVH does) timed
-//! before any network has run, after the residual network run by tract
+//! (issue 23, "the native RC-FK anomaly"): `Motion::to_bvh` of the same
+//! 2,048 frames (43 rotating joints: 88,064 matrix-to-Euler conversions)
+//! timed before any network has run, after the residual network run by tract
 //! directly (`SimplePlan::run`, whose AVX/AVX-512 kernels return without
 //! `vzeroupper`), and after the same network run by `runtime::Model::run`
 //! (which clears the upper vector state after every operator). Best of 5
@@ -37,24 +37,17 @@ fn main() -> TractResult<()> {
         })
         .collect();
     let motion = slerp_lerp(&keys, n).map_err(|e| TractError::msg(e.to_string()))?;
-    let euler_ms = |m: &Motion| {
+    // writing a BVH's angles: every rotating joint's matrix to Euler angles
+    let to_bvh_ms = |m: &Motion| {
         (0..5)
             .map(|_| {
                 let t = Instant::now();
-                let mut sum = 0.0;
-                for frame in &m.rotations {
-                    for (j, r) in frame.iter().enumerate() {
-                        if let Some(order) = rotation_order(template, j) {
-                            sum += deeprep::rotation::euler::matrix_to_euler(r, order)[0];
-                        }
-                    }
-                }
-                std::hint::black_box(sum);
+                std::hint::black_box(m.to_bvh(template, 1.0 / 60.0).expect("to_bvh"));
                 t.elapsed().as_secs_f64() * 1e3
             })
             .fold(f64::INFINITY, f64::min)
     };
-    let before = euler_ms(&motion);
+    let before = to_bvh_ms(&motion);
     // tract directly: the residual network's input shape, zeros
     let proto = deeprep::runtime::read_proto(&bytes).map_err(|e| TractError::msg(e.to_string()))?;
     let typed = tract_onnx::onnx()
@@ -73,7 +66,7 @@ fn main() -> TractResult<()> {
         .into_runnable()?;
     let input = Tensor::zero::<f32>(&[1, channels, n])?;
     plan.run(tvec!(input.clone().into_tvalue()))?;
-    let after_tract = euler_ms(&motion);
+    let after_tract = to_bvh_ms(&motion);
     let model = deeprep::runtime::Model::from_onnx_bytes(&bytes)
         .map_err(|e| TractError::msg(e.to_string()))?;
     let x = deeprep::runtime::TensorF32::new(vec![0.0; channels * n], vec![1, channels, n])
@@ -81,7 +74,7 @@ fn main() -> TractResult<()> {
     model
         .run(&[x])
         .map_err(|e| TractError::msg(e.to_string()))?;
-    let after_model = euler_ms(&motion);
+    let after_model = to_bvh_ms(&motion);
     println!(
         "{{\"conversions\": {}, \"before_any_network_ms\": {before:.2}, \"after_tract_plan_run_ms\": {after_tract:.2}, \"after_model_run_ms\": {after_model:.2}}}",
         motion.rotations.len() * (0..template.joints.len()).filter(|&j| rotation_order(template, j).is_some()).count()

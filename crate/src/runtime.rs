@@ -27,11 +27,11 @@ type Plan = TypedSimplePlan;
 /// (AVX and AVX-512 assembly, `tract-linalg/x86_64/*/postamble.j2`) return
 /// without `vzeroupper`, and until one runs, every SSE instruction (our
 /// Rust code, built for baseline x86-64, and glibc's `atan2` wrapper) pays
-/// the AVX-SSE transition penalty: 88,064 matrix-to-Euler conversions (a
-/// 2,048-frame BVH) took 76 ms after one residual-network run by tract
-/// directly, against 15 ms before any network and 12 ms after the same run
-/// through [`Model::run`] (`cargo run --release --example vector_state`, on
-/// an AVX-512 machine). A no-op elsewhere (wasm, other architectures, CPUs
+/// the AVX-SSE transition penalty: `Motion::to_bvh` of 2,048 frames
+/// (88,064 matrix-to-Euler conversions) took 85-89 ms after one
+/// residual-network run by tract directly, against 15 ms before any
+/// network and 15 ms after the same run through [`Model::run`] (`cargo run
+/// --release --example vector_state`, on an AVX-512 machine). A no-op elsewhere (wasm, other architectures, CPUs
 /// without AVX).
 #[inline]
 fn clear_upper_vector_state() {
@@ -250,9 +250,9 @@ impl Model {
             crate::error::check_finite(&format!("model input {i}"), &t.data)?;
         }
         let (plan, tv) = self.plan_and_values(inputs)?;
-        // on x86-64, tract's own evaluation node by node with the vector
-        // state cleared after each (see `clear_upper_vector_state`)
-        #[cfg(target_arch = "x86_64")]
+        // what `plan.run` does (tract's own `eval` on each node in plan
+        // order), with the vector state cleared after each node (see
+        // `clear_upper_vector_state`; a no-op off x86-64)
         let out = tract_onnx::tract_core::plan::SimpleState::new(&plan)
             .and_then(|mut state| {
                 state.run_plan_with_eval(tv, |ctx, op_state, node, input| {
@@ -262,8 +262,6 @@ impl Model {
                 })
             })
             .map_err(model_err)?;
-        #[cfg(not(target_arch = "x86_64"))]
-        let out = plan.run(tv).map_err(model_err)?;
         out.iter()
             .map(|v| {
                 let t = v.cast_to::<f32>().map_err(model_err)?;
