@@ -31,8 +31,8 @@ type Plan = TypedSimplePlan;
 /// (88,064 matrix-to-Euler conversions) took 85-89 ms after one
 /// residual-network run by tract directly, against 15 ms before any
 /// network and 15 ms after the same run through [`Model::run`] (`cargo run
-/// --release --example vector_state`, on an AVX-512 machine). A no-op elsewhere (wasm, other architectures, CPUs
-/// without AVX).
+/// --release --example vector_state`, on an AVX-512 machine). A no-op
+/// elsewhere (wasm, other architectures, CPUs without AVX).
 #[inline]
 fn clear_upper_vector_state() {
     #[cfg(target_arch = "x86_64")]
