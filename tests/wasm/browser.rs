@@ -122,7 +122,7 @@ fn ik_from_joint_positions_runs_in_the_browser() {
         .map(|(a, b)| (a - b).abs())
         .fold(0.0f32, f32::max);
     assert!(diff <= 2e-3, "wasm IK reconstruction vs PyTorch: {diff}");
-    assert!(r.bvh().contains("MOTION"));
+    assert!(r.bvh().unwrap().contains("MOTION"));
     assert!(solver.solve(&x[1..], frames).is_err());
 }
 

@@ -70,7 +70,7 @@ pub struct Inbetweener {
 /// One synthesized motion.
 #[wasm_bindgen]
 pub struct InbetweenResult {
-    bvh: String,
+    text: Text,
     positions: Vec<f32>,
     frames: usize,
     frame_time: f64,
@@ -80,43 +80,65 @@ pub struct InbetweenResult {
     critical_frames: Vec<u32>,
 }
 
-impl InbetweenResult {
-    /// The result of a motion `b` (written as BVH) whose frames are `poses`:
-    /// positions by FK and the local tracks, in one pass.
-    fn new(
-        b: &crate::skeleton::Bvh,
-        poses: impl Iterator<Item = crate::skeleton::Pose>,
-        times: Vec<f64>,
-        key_error: Vec<f64>,
-    ) -> InbetweenResult {
-        let (n, joints) = (b.frame_count(), b.joints.len());
-        let mut positions = Vec::with_capacity(n * joints * 3);
-        let mut tracks = crate::skeleton::fk::LocalTracks::with_capacity(n, joints);
-        for pose in poses {
-            for p in pose.global(b).positions {
-                positions.extend_from_slice(&[p.x as f32, p.y as f32, p.z as f32]);
-            }
-            tracks.push(&pose);
+/// A result's BVH text: given, or written from its motion when first read
+/// (issue 23: the Euler angles and the text were about a sixth of a
+/// 2,048-frame synthesis, and a page that plays the tracks never reads it).
+enum Text {
+    Written(String),
+    /// The motion at 60 fps on the model's skeleton, until written.
+    Pending {
+        written: std::cell::OnceCell<String>,
+        motion: std::cell::RefCell<Option<crate::motion::Motion>>,
+        template: crate::skeleton::Bvh,
+    },
+}
+
+/// Global joint positions (FK on `skeleton`) and local tracks of `poses`,
+/// in one pass; and their number.
+fn positions_and_tracks(
+    skeleton: &crate::skeleton::Bvh,
+    poses: impl Iterator<Item = crate::skeleton::Pose>,
+) -> (Vec<f32>, crate::skeleton::fk::LocalTracks, usize) {
+    let (n, joints) = (poses.size_hint().0, skeleton.joints.len());
+    let mut positions = Vec::with_capacity(n * joints * 3);
+    let mut tracks = crate::skeleton::fk::LocalTracks::with_capacity(n, joints);
+    let mut frames = 0;
+    for pose in poses {
+        for p in pose.global(skeleton).positions {
+            positions.extend_from_slice(&[p.x as f32, p.y as f32, p.z as f32]);
         }
-        InbetweenResult {
-            bvh: b.write(),
-            positions,
-            frames: n,
-            frame_time: b.frame_time,
-            tracks,
-            times,
-            key_error,
-            critical_frames: Vec::new(),
-        }
+        tracks.push(&pose);
+        frames += 1;
     }
+    (positions, tracks, frames)
 }
 
 #[wasm_bindgen]
 impl InbetweenResult {
-    /// The motion as BVH text (60 fps, the model's skeleton).
+    /// The motion as BVH text (60 fps, the model's skeleton; a clip's rate
+    /// for `synthesizeFromBvh`). Written on the first read, which for a
+    /// synthesis costs about as much as its Euler angles and text (tens of
+    /// milliseconds at 2,048 frames); later reads copy it.
     #[wasm_bindgen(getter)]
-    pub fn bvh(&self) -> String {
-        self.bvh.clone()
+    pub fn bvh(&self) -> Result<String, JsError> {
+        match &self.text {
+            Text::Written(s) => Ok(s.clone()),
+            Text::Pending {
+                written,
+                motion,
+                template,
+            } => {
+                if let Some(s) = written.get() {
+                    return Ok(s.clone());
+                }
+                let m = motion
+                    .borrow_mut()
+                    .take()
+                    .ok_or_else(|| JsError::new("the result's motion is gone"))?;
+                let s = m.to_bvh(template, FRAME_TIME).map_err(js_err)?.write();
+                Ok(written.get_or_init(|| s).clone())
+            }
+        }
     }
     /// Global joint positions, `frames × joints × 3`.
     #[wasm_bindgen(getter)]
@@ -187,17 +209,34 @@ fn keys_from_channels(
         .collect()
 }
 
+/// Seconds per frame of a synthesized motion.
+const FRAME_TIME: f64 = 1.0 / 60.0;
+
+/// The result of a synthesized `motion` on `template`'s skeleton: positions
+/// and tracks from the motion's own matrices (the BVH's FK without turning
+/// Euler angles back into matrices), the BVH text when first read.
 fn result_from(
     template: &crate::skeleton::Bvh,
-    motion: &crate::motion::Motion,
+    motion: crate::motion::Motion,
     times: Vec<f64>,
     key_error: Vec<f64>,
 ) -> Result<InbetweenResult, JsError> {
-    let bvh = motion.to_bvh(template, 1.0 / 60.0).map_err(js_err)?;
-    // positions and tracks from the motion's own matrices: the BVH's FK
-    // without turning its Euler angles back into matrices
-    let poses = motion.poses(template).map_err(js_err)?;
-    Ok(InbetweenResult::new(&bvh, poses, times, key_error))
+    let (positions, tracks, frames) =
+        positions_and_tracks(template, motion.poses(template).map_err(js_err)?);
+    Ok(InbetweenResult {
+        text: Text::Pending {
+            written: std::cell::OnceCell::new(),
+            motion: std::cell::RefCell::new(Some(motion)),
+            template: template.clone(),
+        },
+        positions,
+        frames,
+        frame_time: FRAME_TIME,
+        tracks,
+        times,
+        key_error,
+        critical_frames: Vec::new(),
+    })
 }
 
 #[wasm_bindgen]
@@ -373,7 +412,17 @@ impl Inbetweener {
         };
         let out = clip::splice(&b, &ck, &motion).map_err(js_err)?;
         let poses = (0..out.frame_count()).map(|f| crate::skeleton::Pose::read(&out, out.frame(f)));
-        Ok(InbetweenResult::new(&out, poses, times, key_error))
+        let (positions, tracks, frames) = positions_and_tracks(&out, poses);
+        Ok(InbetweenResult {
+            text: Text::Written(out.write()),
+            positions,
+            frames,
+            frame_time: out.frame_time,
+            tracks,
+            times,
+            key_error,
+            critical_frames: Vec::new(),
+        })
     }
 
     /// Adds the supervised residual network (the bytes of
@@ -490,7 +539,7 @@ impl Inbetweener {
         let t = &out.times;
         let mut r = result_from(
             &self.inner.template,
-            &out.motion,
+            out.motion,
             vec![t.generator_ms, t.rcfk_ms, t.path_ms, t.post_ms],
             vec![
                 out.key_error_raw.root,
@@ -543,7 +592,7 @@ impl Inbetweener {
         let ms = js_sys::Date::now() - t0;
         result_from(
             &self.inner.template,
-            &m,
+            m,
             vec![ms, 0.0, 0.0, 0.0],
             vec![0.0; 4],
         )
