@@ -269,29 +269,28 @@ impl ResidualModel {
         }
         crate::error::check_finite("residual network output", &res.data)?;
         let r = |ch: usize, t: usize| res.data[ch * n + t] as f64;
-        let mut m = base.clone();
+        // the motion is the base, moved frame by frame in place (each frame
+        // is read before it is written; no copy of the base)
+        let mut m = base;
         for t in 0..n {
             let w = variation as f64 * gate[t];
             if w == 0.0 {
                 continue;
             }
-            let root = apply(&c, std::array::from_fn(|i| base.root[t][i] - off[i]));
+            let root = apply(&c, std::array::from_fn(|i| m.root[t][i] - off[i]));
             let moved: V3 = std::array::from_fn(|i| root[i] + w * r(i, t) * self.scale);
             let back = apply(&ct, moved);
             m.root[t] = std::array::from_fn(|i| back[i] + off[i]);
+            let frame = &mut m.rotations[t];
             for (s, &j) in self.rotating.iter().enumerate() {
-                let b = if j == 0 {
-                    mul(&c, &base.rotations[t][0])
-                } else {
-                    base.rotations[t][j]
-                };
+                let b = if j == 0 { mul(&c, &frame[0]) } else { frame[j] };
                 let b6 = sixd(&b);
                 let v: [f64; 6] = std::array::from_fn(|q| b6[q] + w * r(3 + 6 * s + q, t));
                 let rot = from_sixd(&v).ok_or_else(|| Error::Degenerate {
                     what: "residual 6D output".into(),
                     index: t,
                 })?;
-                m.rotations[t][j] = if j == 0 { mul(&ct, &rot) } else { rot };
+                frame[j] = if j == 0 { mul(&ct, &rot) } else { rot };
             }
         }
         Ok(m)
