@@ -11,19 +11,21 @@ cp web/client.js pkg/client.js
 # the worker protocol client.js is built on (shared with the demo pages)
 mkdir -p pkg/lib && cp web/lib/workers.js pkg/lib/workers.js
 cp web/three.js pkg/three.js
-sed "s#'./pkg-core/deeprep.js'#'./core/deeprep.js'#" web/worker.js > pkg/worker.js
+sed "s#'./pkg-core/#'./core/#g" web/worker.js > pkg/worker.js
 # The worker's package without the GPU code (a smaller download: the in-betweening
 # needs no wgpu), in pkg/core/.
 cargo build -p deeprep --lib --release --no-default-features --features onnx "${WASM_CARGO_FLAGS[@]:2}" --target wasm32-unknown-unknown
 wasm-bindgen target/wasm32-unknown-unknown/release/deeprep.wasm --out-dir pkg/core --target web --remove-name-section --remove-producers-section
 rm -f pkg/core/.gitignore pkg/core/package.json
+# and again with relaxed SIMD, pkg/core/deeprep_relaxed_bg.wasm (worker.js picks it where the browser has it)
+bash scripts/build-relaxed-core.sh pkg/core
 # Strip debug sections (the name section alone was 14 MB) with binaryen from
 # npm (Debian's wasm-opt is too old for wasm-bindgen's reference types). No
 # -Os: it shrinks the raw file but grows the gzip'd download (README, size).
-for w in pkg/deeprep_bg.wasm pkg/core/deeprep_bg.wasm; do
+for w in pkg/deeprep_bg.wasm pkg/core/deeprep_bg.wasm pkg/core/deeprep_relaxed_bg.wasm; do
   node_modules/.bin/wasm-opt "$w" -O0 --strip-debug --strip-producers -o "$w" \
     --enable-reference-types --enable-bulk-memory --enable-nontrapping-float-to-int \
-    --enable-sign-ext --enable-multivalue --enable-mutable-globals --enable-simd
+    --enable-sign-ext --enable-multivalue --enable-mutable-globals --enable-simd --enable-relaxed-simd
 done
 # The models the client loads by default, found beside worker.js.
 mkdir -p pkg/models
@@ -48,7 +50,7 @@ export interface Progress { id: number; stage: string; fraction: number }
 /** A synthesized motion. */
 export interface SynthesisResult {
   method: 'model' | 'residual' | 'slerp';
-  /** BVH text, 60 fps, the model's skeleton. */
+  /** BVH text, 60 fps, the model's skeleton; empty when the request said `bvh: false`. */
   bvh: string;
   frames: number;
   /** Global joint positions, frames x joints x 3. */
@@ -98,6 +100,9 @@ export interface SynthesisRequest {
    *  root path, in [0, 2] (1: the networks as trained; 0: SLERP+LERP).
    *  Default: `DeeprepClient.defaultVariation`, the model's own. */
   variation?: number;
+  /** false: the result's `bvh` is empty, its text not written (tens of ms at 2,048 frames;
+   *  the tracks and positions are there either way). Default true. */
+  bvh?: boolean;
 }
 /** IK from joint positions (thesis Sec. 4.4.3). */
 export interface IkSolution {
@@ -139,6 +144,9 @@ export interface CreateOptions {
   workerUrl?: URL | string;
   /** Download, compile and synthesis stages (id 0: start-up). */
   onProgress?: (p: Progress) => void;
+  /** 'simd128' loads the plain SIMD wasm even where the browser has relaxed SIMD
+   *  (default: the relaxed-SIMD build there, whose fused multiply-adds round differently). */
+  wasm?: 'simd128';
 }
 /** A Promise API over a Web Worker that runs the wasm in-betweening. */
 export class DeeprepClient {
@@ -155,6 +163,8 @@ export class DeeprepClient {
   /** The variation a request without one gets: the model manifest's (chosen on training takes). */
   readonly defaultVariation?: number;
   readonly modelError?: string;
+  /** The wasm build the worker runs: 'relaxed-simd' (Chrome 114+) or 'simd128'. */
+  readonly wasm: 'relaxed-simd' | 'simd128';
   synthesize(req: SynthesisRequest & { signal?: AbortSignal }): Promise<SynthesisResult>;
   /** One call from a user's clip (BVH text or bytes on the model's skeleton, any frame rate) to motion:
    *  keys are frames of the clip; resolves with the whole clip at its own frame rate, the span between

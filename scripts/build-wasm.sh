@@ -2,7 +2,8 @@
 # Builds the deeprep wasm package into web/pkg (wasm-bindgen, --target web),
 # and the same without the GPU code (no wgpu: the viewer and HairNet's WebGPU
 # decoder) into web/pkg-core, which the in-betweening worker loads (a smaller
-# download). Both share one target directory: only the crate recompiles.
+# download), with a relaxed-SIMD twin of its .wasm (scripts/build-relaxed-core.sh).
+# The two plain builds share one target directory: only the crate recompiles.
 #   scripts/build-wasm.sh          release build, unoptimized .wasm (fast)
 #   scripts/build-wasm.sh --opt    plus wasm-opt -Os (npm binaryen; Debian's is too old)
 set -euo pipefail
@@ -22,6 +23,8 @@ for out in pkg-core pkg; do
       --enable-sign-ext --enable-multivalue --enable-mutable-globals
   fi
 done
+# the core again with relaxed SIMD: web/pkg-core/deeprep_relaxed_bg.wasm
+bash scripts/build-relaxed-core.sh web/pkg-core
 # the full package is built last, so target/ holds it for the wasm tests
-size() { echo "\"$1_bytes\": $(stat -c %s "web/$2/deeprep_bg.wasm"), \"$1_gzip_bytes\": $(gzip -9 -c "web/$2/deeprep_bg.wasm" | wc -c)"; }
-echo "{$(size wasm pkg), $(size core_wasm pkg-core), \"optimized\": $OPT, \"build_seconds\": $(( $(date +%s) - t0 ))}"
+size() { echo "\"$1_bytes\": $(stat -c %s "web/$2"), \"$1_gzip_bytes\": $(gzip -9 -c "web/$2" | wc -c)"; }
+echo "{$(size wasm pkg/deeprep_bg.wasm), $(size core_wasm pkg-core/deeprep_bg.wasm), $(size core_relaxed_wasm pkg-core/deeprep_relaxed_bg.wasm), \"optimized\": $OPT, \"build_seconds\": $(( $(date +%s) - t0 ))}"

@@ -39,6 +39,10 @@ def inbetween(d):
     row("wasm: residual network alone", lambda n: fmt(web[n].get("residual_network_ms"), 0))
     row("wasm total: the default for whole-pose keys (`total_ms`)", lambda n: fmt(web[n]["total_ms"], 0), bold=True)
     row("wasm: its first call at that length (`first_call_ms`)", lambda n: fmt(web[n]["first_call_ms"], 0))
+    if any("simd128_total_ms" in web[n] for n in sizes):
+        row("wasm: the default with the plain SIMD build (`simd128_total_ms`; `wasm`: "
+            f"{web[sizes[0]].get('wasm', '-')} above)", lambda n: fmt(web[n].get("simd128_total_ms"), 0))
+        row("wasm: first read of the default result's BVH text (`bvh_ms`)", lambda n: fmt(web[n].get("bvh_ms"), 0))
     g = lambda n, k: web[n]["generator_pipeline"][k]  # noqa: E731
     row("wasm: generator pipeline, generator", lambda n: fmt(g(n, "generator_ms"), 0))
     row("wasm: generator pipeline, path predictor", lambda n: fmt(g(n, "path_ms"), 0))

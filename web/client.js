@@ -34,7 +34,7 @@ export class DeeprepError extends Error {
 }
 
 export class DeeprepClient {
-  static async create({ modelBase, models, workerUrl, onProgress = () => {} } = {}) {
+  static async create({ modelBase, models, workerUrl, wasm, onProgress = () => {} } = {}) {
     const c = new DeeprepClient();
     // Relative to the page, not to the worker's own URL.
     const page = globalThis.document?.baseURI ?? globalThis.location?.href;
@@ -51,7 +51,7 @@ export class DeeprepClient {
     );
     let info;
     try {
-      info = await c.channel.request({ type: 'init', modelBase: c.modelBase, models });
+      info = await c.channel.request({ type: 'init', modelBase: c.modelBase, models, wasm });
     } catch (e) {
       c.channel.terminate();
       throw e; // E_WORKER when the worker could not start
@@ -66,6 +66,7 @@ export class DeeprepClient {
     c.hasResidual = info.hasResidual; // method 'residual' (the supervised residual network) is available
     c.defaultVariation = info.defaultVariation;
     c.modelError = info.modelError;
+    c.wasm = info.wasm; // the wasm build the worker runs: 'relaxed-simd' or 'simd128'
     return c;
   }
 

@@ -3,8 +3,11 @@
 //   -> {type: 'init', modelBase, models}   (modelBase: an absolute URL of a folder with the
 //      model files; models: their bytes {generator, path, manifest}; neither: the copies
 //      shipped beside this file in the npm package, models/)
-//   <- {type: 'result', id, skeletonBvh, hasModel, defaultVariation, modelError} (the protocol of web/lib/workers.js)
-//   -> {type: 'synthesize', id, keyFrames, keyChannels, frames, post, dna, method, variation, footLock}
+//      wasm: 'simd128' loads the plain SIMD build even where relaxed SIMD is there (default: the fastest the browser runs)
+//   <- {type: 'result', id, skeletonBvh, hasModel, defaultVariation, modelError, wasm} (the protocol of web/lib/workers.js;
+//      wasm: the build that runs, 'relaxed-simd' or 'simd128')
+//   -> {type: 'synthesize', id, keyFrames, keyChannels, frames, post, dna, method, variation, footLock, bvh}
+//      (bvh: false: the result's bvh is '', its text not written)
 //      or {type: 'synthesize', id, keys, frames, ...}: keys of any kind (pose, root, xy; motion::keys)
 //   <- {type: 'progress', id, stage, fraction}  ...  {type: 'result', id, ...} | {type: 'error', id, message}
 //   -> {type: 'rcAngles', id, channels, joint} / {type: 'setRcAngles', id, channels, joint, angles}
@@ -15,6 +18,36 @@
 //      hit a RuntimeError (a deeprep bug); the client then replaces this worker.
 // the package without the GPU code (web/pkg-core): a smaller download
 import init, { Inbetweener, IkSolver, BvhClip } from './pkg-core/deeprep.js';
+
+// A module that validates only where the browser has relaxed SIMD: three
+// f32x4 splats into f32x4.relaxed_madd (opcode 0xfd 0x105).
+const RELAXED_SIMD_PROBE = new Uint8Array([
+  0, 97, 115, 109, 1, 0, 0, 0, 1, 5, 1, 96, 0, 1, 123, 3, 2, 1, 0, 10, 28, 1, 26, 0,
+  67, 0, 0, 0, 0, 253, 19, 67, 0, 0, 0, 0, 253, 19, 67, 0, 0, 0, 0, 253, 19, 253, 133, 2, 11]);
+
+/** Whether this browser runs relaxed SIMD. */
+function hasRelaxedSimd() {
+  try { return WebAssembly.validate(RELAXED_SIMD_PROBE); } catch { return false; }
+}
+
+/** Starts the wasm: the relaxed-SIMD build (issue 23: tract's matrix kernel
+ *  fuses its multiply-adds, about 15% off the in-betweening network) where the
+ *  browser has relaxed SIMD and `wasm` does not ask for 'simd128', else the
+ *  plain SIMD build, which is also the fallback when the relaxed file cannot
+ *  be loaded. Returns the build that runs. */
+async function startWasm(wasm) {
+  if (wasm !== 'simd128' && hasRelaxedSimd()) {
+    try {
+      await init({ module_or_path: new URL('./pkg-core/deeprep_relaxed_bg.wasm', import.meta.url) });
+      return 'relaxed-simd';
+    } catch (e) {
+      console.warn(`deeprep: the relaxed-SIMD build did not load (${e.message || e}); using plain SIMD`);
+    }
+  }
+  await init();
+  return 'simd128';
+}
+let wasmBuild = null;
 
 let model = null;
 let ik = null;
@@ -79,7 +112,7 @@ async function fetchText(url) {
 
 async function handleInit(msg) {
   postMessage({ type: 'progress', id: msg.id, stage: 'compiling wasm', fraction: 0 });
-  await init();
+  wasmBuild = await startWasm(msg.wasm);
   urls = modelUrls(msg.modelBase);
   try {
     let g, p, m;
@@ -131,9 +164,9 @@ async function handleInit(msg) {
     skel.free();
     postMessage({ type: 'result', id: msg.id, skeletonBvh: model.skeletonBvh, skeleton, hasModel: true,
                   hasResidual: model.hasResidual || residualManifest !== null,
-                  defaultVariation: model.defaultVariation });
+                  defaultVariation: model.defaultVariation, wasm: wasmBuild });
   } catch (e) {
-    postMessage({ type: 'result', id: msg.id, skeletonBvh: null, hasModel: false, modelError: String(e.message || e) });
+    postMessage({ type: 'result', id: msg.id, skeletonBvh: null, hasModel: false, modelError: String(e.message || e), wasm: wasmBuild });
   }
 }
 
@@ -169,12 +202,14 @@ function importBvh(msg) {
   }
 }
 
-/** Posts a synthesis result (and frees it): BVH text, global positions, and
- * the local tracks (translations, quaternions) that three.js and glTF take. */
-function postResult(id, method, r) {
+/** Posts a synthesis result (and frees it): BVH text ('' when the request
+ * says `bvh: false`: writing it is a fifth of a long synthesis), global
+ * positions, and the local tracks (translations, quaternions) that three.js
+ * and glTF take. */
+function postResult(id, method, r, withBvh = true) {
   const positions = r.positions, translations = r.translations, quaternions = r.quaternions;
   const times = Array.from(r.times), keyError = Array.from(r.keyError);
-  postMessage({ type: 'result', id, method, bvh: r.bvh, frames: r.frames, frameTime: r.frameTime, times, keyError,
+  postMessage({ type: 'result', id, method, bvh: withBvh ? r.bvh : '', frames: r.frames, frameTime: r.frameTime, times, keyError,
                 // the same numbers by name
                 stages: { generatorMs: times[0], rcfkMs: times[1], pathMs: times[2], postMs: times[3] },
                 keyErrors: { before: { root: keyError[0], joints: keyError[1] }, after: { root: keyError[2], joints: keyError[3] } },
@@ -191,8 +226,8 @@ function handle(msg) {
     postMessage({ type: 'progress', id, stage: msg.method === 'slerp' ? 'interpolating' : 'generator, RC-FK, path, post-processing', fraction: 0.1 });
     if (msg.keys) {
       // keys of any kind (whole pose, root only, 2-D joints): the core reads the request
-      const { type, id: _, signal, ...request } = msg;
-      postResult(id, msg.method, model.synthesizeRequest(JSON.stringify(request)));
+      const { type, id: _, signal, bvh, ...request } = msg;
+      postResult(id, msg.method, model.synthesizeRequest(JSON.stringify(request)), bvh !== false);
       return;
     }
     const kf = new Uint32Array(msg.keyFrames);
@@ -202,8 +237,8 @@ function handle(msg) {
         : model.synthesize(kf, kc, msg.frames, {
           post: msg.post ?? true, dna: new Float32Array(msg.dna || []), variation: msg.variation ?? undefined, footLock: msg.footLock ?? false,
         });
-    postMessage({ type: 'progress', id, stage: 'writing BVH', fraction: 0.9 });
-    postResult(id, msg.method, r);
+    if (msg.bvh !== false) postMessage({ type: 'progress', id, stage: 'writing BVH', fraction: 0.9 });
+    postResult(id, msg.method, r, msg.bvh !== false);
   } else if (msg.type === 'synthesizeFromBvh') {
     postMessage({ type: 'progress', id, stage: 'reading the clip and synthesizing', fraction: 0.1 });
     const r = model.synthesizeFromBvh(new Uint8Array(msg.bytes), new Uint32Array(msg.keys), msg.method || 'model',

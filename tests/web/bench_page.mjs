@@ -7,14 +7,28 @@
 // partial keys, DNA and gaps over 600 frames), with its first call and its
 // best again with the models prepared for any length
 // (Inbetweener.prepareAnyLength, as the npm worker); and the SLERP+LERP
-// baseline on the same keys. Prints JSON. Usage: node tests/web/bench_page.mjs [--smoke]
+// baseline on the same keys (its BVH text read, as before results wrote it
+// eagerly). The wasm is the worker's: web/pkg-core, the relaxed-SIMD build
+// where this Chromium validates relaxed SIMD (`wasm`); `simd128_total_ms` is
+// the default pipeline with the plain SIMD build, run alternately with it in
+// the same page. `bvh_ms` is the first read of the default result's BVH text
+// (written on demand since issue 23; the worker reads it for every result).
+// Prints JSON. Usage: node tests/web/bench_page.mjs [--smoke]
 import { withBenchPage } from './chromium.mjs';
 
 const smoke = process.argv.includes('--smoke');
 const sizes = smoke ? [512] : [512, 1024, 2048, 4096];
 await withBenchPage(async (page) => {
   const rows = await page.evaluate(async ({ sizes, reps }) => {
-    const m = await import('./pkg/deeprep.js');
+    // the worker's wasm (web/worker.js startWasm): relaxed SIMD where it validates
+    const probe = new Uint8Array([0, 97, 115, 109, 1, 0, 0, 0, 1, 5, 1, 96, 0, 1, 123, 3, 2, 1, 0, 10, 28, 1, 26, 0,
+      67, 0, 0, 0, 0, 253, 19, 67, 0, 0, 0, 0, 253, 19, 67, 0, 0, 0, 0, 253, 19, 253, 133, 2, 11]);
+    const wasm = WebAssembly.validate(probe) ? 'relaxed-simd' : 'simd128';
+    const m = await import('./pkg-core/deeprep.js');
+    await m.default(wasm === 'relaxed-simd' ? { module_or_path: './pkg-core/deeprep_relaxed_bg.wasm' } : undefined);
+    // a second instance of the glue (the query makes it another module) with the plain build
+    const plain = await import('./pkg-core/deeprep.js?simd128');
+    await plain.default();
     const get = (u) => fetch(u).then((r) => r.arrayBuffer()).then((b) => new Uint8Array(b));
     const model = new m.Inbetweener(await get('../models/onnx/tween_generator.onnx'), await get('../models/onnx/tween_path.onnx'),
       await fetch('../models/onnx/tween_generator.manifest.json').then((r) => r.text()));
@@ -28,6 +42,10 @@ await withBenchPage(async (page) => {
     withResidual.setResidual(await get('../models/onnx/tween_residual.onnx'),
       await fetch('../models/onnx/tween_residual.manifest.json').then((r) => r.text()));
     const residualDefault = withResidual.residualIsDefault;
+    const plainResidual = new plain.Inbetweener(await get('../models/onnx/tween_generator.onnx'), await get('../models/onnx/tween_path.onnx'),
+      await fetch('../models/onnx/tween_generator.manifest.json').then((r) => r.text()));
+    plainResidual.setResidual(await get('../models/onnx/tween_residual.onnx'),
+      await fetch('../models/onnx/tween_residual.manifest.json').then((r) => r.text()));
     const poses = (await fetch('../models/examples/poses.json').then((r) => r.json())).poses;
     const out = [];
     for (const n of sizes) {
@@ -59,18 +77,27 @@ await withBenchPage(async (page) => {
       t = performance.now();
       withResidual.synthesize(kf, kc, n, { post: true }).free();
       const resFirst = performance.now() - t;
-      let resBest = Infinity, resNet = null;
+      plainResidual.synthesize(kf, kc, n, { post: true }).free();
+      let resBest = Infinity, resNet = null, plainBest = Infinity, bvhMs = Infinity;
       for (let r = 0; r < reps; r++) {
         t = performance.now();
         const res = withResidual.synthesize(kf, kc, n, { post: true });
         const total = performance.now() - t;
         if (total < resBest) { resBest = total; resNet = res.times[0]; }
+        t = performance.now();
+        if (!res.bvh.startsWith('HIERARCHY')) throw new Error('no BVH text');
+        bvhMs = Math.min(bvhMs, performance.now() - t);
         res.free();
+        t = performance.now();
+        plainResidual.synthesize(kf, kc, n, { post: true }).free();
+        plainBest = Math.min(plainBest, performance.now() - t);
       }
       t = performance.now();
-      model.interpolate(kf, kc, n).free();
+      const slerpResult = model.interpolate(kf, kc, n);
+      if (!slerpResult.bvh.startsWith('HIERARCHY')) throw new Error('no BVH text');
+      slerpResult.free();
       const slerp = performance.now() - t;
-      out.push({ frames: n, total_ms: resBest, first_call_ms: resFirst,
+      out.push({ frames: n, total_ms: resBest, first_call_ms: resFirst, wasm, simd128_total_ms: plainBest, bvh_ms: bvhMs,
                  default_method: residualDefault ? 'residual' : 'generator',
                  residual_network_ms: residualDefault ? resNet : null,
                  generator_pipeline: { generator_ms: best[0], rcfk_ms: best[1], path_ms: best[2], post_ms: best[3],

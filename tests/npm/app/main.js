@@ -17,6 +17,8 @@ try {
   await init();
   const sixd = convertRotations('quat', '6d', new Float32Array([0, 0, 0, 1]));
   const client = await starting;
+  // the bundler shipped the relaxed-SIMD twin of the worker's wasm, and this Chromium runs it
+  if (client.wasm !== 'relaxed-simd') throw new Error(`the worker runs the ${client.wasm} build, not relaxed-simd`);
   stageAt.ready = Math.round(performance.now());
   document.body.dataset.stages = JSON.stringify(stageAt);
   const skel = BvhClip.parse(client.skeletonBvh);
@@ -65,7 +67,8 @@ try {
   const missing = await DeeprepClient.create({ modelBase: './no-models/' }).then(() => null, (e) => e.code);
   if (missing !== 'E_MODEL_LOAD') throw new Error(`create() with missing models: ${missing}`);
   const stages = new Set();
-  const c2 = await DeeprepClient.create({ onProgress: (p) => stages.add(p.stage) });
+  const c2 = await DeeprepClient.create({ wasm: 'simd128', onProgress: (p) => stages.add(p.stage) });
+  if (c2.wasm !== 'simd128') throw new Error(`create({ wasm: 'simd128' }) runs ${c2.wasm}`);
   for (const s of ['compiling wasm', 'downloading models']) if (!stages.has(s)) throw new Error(`no '${s}' progress: ${[...stages]}`);
   const ac = new AbortController();
   const long = c2.synthesize({ keyFrames: [0, 599], keyChannels: [...row, ...row], frames: 600, signal: ac.signal });
@@ -78,6 +81,14 @@ try {
   if (early !== 'E_ABORTED') throw new Error(`an already aborted signal: ${early}`);
   const after = await c2.synthesize({ keyFrames: [0, 29], keyChannels: [...row, ...row], frames: 30 });
   if (after.frames !== 30) throw new Error('no synthesis after an abort');
+  // the plain and the relaxed-SIMD builds agree (fused multiply-adds round differently)
+  const turned = row.map((v, i) => (i === 0 ? 40 : i > 2 && i % 5 === 0 ? 25 : v));
+  const ask = { keyFrames: [0, 89], keyChannels: [...row, ...turned], frames: 90 };
+  const [fast, plain] = await Promise.all([client.synthesize(ask), c2.synthesize({ ...ask, bvh: false })]);
+  if (plain.bvh !== '' || !fast.bvh.startsWith('HIERARCHY')) throw new Error('bvh: false did not leave the text out, or a result lacks it');
+  let gap = 0;
+  for (let i = 0; i < fast.positions.length; i++) gap = Math.max(gap, Math.abs(fast.positions[i] - plain.positions[i]));
+  if (!(gap < 0.05)) throw new Error(`relaxed-SIMD and plain builds differ by ${gap} in joint positions`);
   c2.terminate();
   // a CMU clip of ../shared (salsa/01, served beside the app by the test scripts when the
   // data is there): keys at 0, 120 and 240 of its frames, the whole clip back
@@ -111,7 +122,7 @@ try {
   let code = null;
   await client.importBvh(new TextEncoder().encode('HIERARCHY\nnot a bvh')).catch((e) => { code = e.code; });
   if (r.frames !== 60 || clip.frameCount !== 2 || code !== 'E_BAD_BVH') throw new Error(`unexpected: ${r.frames} ${clip.frameCount} ${code}`);
-  document.getElementById('out').textContent = `deeprep ${version()} 6d ${Array.from(sixd)}; synthesized ${r.frames} frames; a 120 fps clip in-betweened (${fromClip.frames} frames); ${cmu}; three.js: ${compared} tracks as BVHLoader's (max difference ${worst.toExponential(1)}), played; root-only keys hit; a 1,500-frame gap via critical keys at ${longGap.criticalFrames.join(', ')}; bad BVH -> ${code}; missing models -> ${missing}; abort -> ${aborted}, then ${after.frames} frames`;
+  document.getElementById('out').textContent = `deeprep ${version()} 6d ${Array.from(sixd)}; synthesized ${r.frames} frames; a 120 fps clip in-betweened (${fromClip.frames} frames); ${cmu}; three.js: ${compared} tracks as BVHLoader's (max difference ${worst.toExponential(1)}), played; root-only keys hit; a 1,500-frame gap via critical keys at ${longGap.criticalFrames.join(', ')}; bad BVH -> ${code}; missing models -> ${missing}; abort -> ${aborted}, then ${after.frames} frames; worker wasm ${client.wasm}, within ${gap.toExponential(1)} of simd128`;
   document.body.dataset.done = '1';
 } catch (e) {
   document.body.dataset.error = `${e.code || ''} ${e.message}`;
