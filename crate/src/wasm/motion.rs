@@ -131,11 +131,12 @@ impl InbetweenResult {
                 if let Some(s) = written.get() {
                     return Ok(s.clone());
                 }
-                let m = motion
-                    .borrow_mut()
-                    .take()
-                    .ok_or_else(|| JsError::new("the result's motion is gone"))?;
-                let s = m.to_bvh(template, FRAME_TIME).map_err(js_err)?.write();
+                let s = match motion.borrow().as_ref() {
+                    Some(m) => m.to_bvh(template, FRAME_TIME).map_err(js_err)?.write(),
+                    None => return Err(JsError::new("the result's motion is gone")),
+                };
+                // the text holds the motion now; a failed write keeps it
+                motion.borrow_mut().take();
                 Ok(written.get_or_init(|| s).clone())
             }
         }
