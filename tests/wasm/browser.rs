@@ -122,7 +122,7 @@ fn ik_from_joint_positions_runs_in_the_browser() {
         .map(|(a, b)| (a - b).abs())
         .fold(0.0f32, f32::max);
     assert!(diff <= 2e-3, "wasm IK reconstruction vs PyTorch: {diff}");
-    assert!(r.bvh().unwrap().contains("MOTION"));
+    assert!(r.bvh().contains("MOTION"));
     assert!(solver.solve(&x[1..], frames).is_err());
 }
 
@@ -346,7 +346,14 @@ fn hostile_inputs_reject_and_the_instance_keeps_working() {
         .is_err());
     // the options object: defaults, every option, and mistakes named
     assert!(m.synthesize(&[0, 10], &two, 20, Some(none)).is_ok());
-    assert!(m.synthesize(&[0, 10], &two, 20, None).is_ok());
+    // the BVH text is written on the first read of `bvh` and the same on the next
+    let r = m.synthesize(&[0, 10], &two, 20, None).unwrap();
+    let text = r.bvh().unwrap();
+    assert!(
+        text.starts_with("HIERARCHY") && text.contains("Frames: 20"),
+        "{text}"
+    );
+    assert_eq!(r.bvh().unwrap(), text);
     let all = synth_options(&[
         ("post", JsValue::TRUE),
         ("footLock", JsValue::TRUE),
