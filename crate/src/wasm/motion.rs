@@ -70,7 +70,7 @@ pub struct Inbetweener {
 /// One synthesized motion.
 #[wasm_bindgen]
 pub struct InbetweenResult {
-    text: Text,
+    text: std::cell::RefCell<Text>,
     positions: Vec<f32>,
     frames: usize,
     frame_time: f64,
@@ -87,8 +87,7 @@ enum Text {
     Written(String),
     /// The motion at 60 fps on the model's skeleton, until written.
     Pending {
-        written: std::cell::OnceCell<String>,
-        motion: std::cell::RefCell<Option<crate::motion::Motion>>,
+        motion: crate::motion::Motion,
         template: crate::skeleton::Bvh,
     },
 }
@@ -121,25 +120,16 @@ impl InbetweenResult {
     /// milliseconds at 2,048 frames); later reads copy it.
     #[wasm_bindgen(getter)]
     pub fn bvh(&self) -> Result<String, JsError> {
-        match &self.text {
-            Text::Written(s) => Ok(s.clone()),
-            Text::Pending {
-                written,
-                motion,
-                template,
-            } => {
-                if let Some(s) = written.get() {
-                    return Ok(s.clone());
-                }
-                let s = match motion.borrow().as_ref() {
-                    Some(m) => m.to_bvh(template, FRAME_TIME).map_err(js_err)?.write(),
-                    None => return Err(JsError::new("the result's motion is gone")),
-                };
-                // the text holds the motion now; a failed write keeps it
-                motion.borrow_mut().take();
-                Ok(written.get_or_init(|| s).clone())
+        let mut text = self.text.borrow_mut();
+        let s = match &*text {
+            Text::Written(s) => return Ok(s.clone()),
+            Text::Pending { motion, template } => {
+                motion.to_bvh(template, FRAME_TIME).map_err(js_err)?.write()
             }
-        }
+        };
+        // the text replaces the motion; a failed write keeps it
+        *text = Text::Written(s.clone());
+        Ok(s)
     }
     /// Global joint positions, `frames × joints × 3`.
     #[wasm_bindgen(getter)]
@@ -225,11 +215,10 @@ fn result_from(
     let (positions, tracks, frames) =
         positions_and_tracks(template, motion.poses(template).map_err(js_err)?);
     Ok(InbetweenResult {
-        text: Text::Pending {
-            written: std::cell::OnceCell::new(),
-            motion: std::cell::RefCell::new(Some(motion)),
+        text: std::cell::RefCell::new(Text::Pending {
+            motion,
             template: template.clone(),
-        },
+        }),
         positions,
         frames,
         frame_time: FRAME_TIME,
@@ -415,7 +404,7 @@ impl Inbetweener {
         let poses = (0..out.frame_count()).map(|f| crate::skeleton::Pose::read(&out, out.frame(f)));
         let (positions, tracks, frames) = positions_and_tracks(&out, poses);
         Ok(InbetweenResult {
-            text: Text::Written(out.write()),
+            text: std::cell::RefCell::new(Text::Written(out.write())),
             positions,
             frames,
             frame_time: out.frame_time,
