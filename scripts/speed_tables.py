@@ -8,7 +8,8 @@ tests/web/bench_ort_page.mjs`) and "profile" (`cargo run --release --example
 profile_models`). Prints two Markdown tables: the in-betweening per length
 (native and wasm, the default pipeline and the generator pipeline, beside
 thesis Table 5.3), and per bundled model tract natively, tract in wasm and
-onnxruntime-web, with what tract's own profile in wasm puts first.
+onnxruntime-web (and tract with the worker's relaxed-SIMD build where the
+bench ran it), with what tract's own profile in wasm puts first.
 """
 import json
 import sys
@@ -55,9 +56,11 @@ def inbetween(d):
 
 def models(d):
     native = {r["model"]: r for r in d["profile"]["rows"]}
+    relaxed = any(r.get("tract_relaxed_ms") is not None for r in d["ort"]["rows"])
     out = ["| model (inputs) | tract, native | tract, wasm | onnxruntime-web | tract / ORT (wasm) "
-           "| tract's first operator in wasm (its own profile) | that operator's share of tract's time / ORT's whole run |",
-           "|---|---|---|---|---|---|---|"]
+           + ("| tract, wasm relaxed SIMD (the worker's build) | its / ORT " if relaxed else "")
+           + "| tract's first operator in wasm (its own profile) | that operator's share of tract's time / ORT's whole run |",
+           "|---|---|---|---|---|---|---|" + ("---|---|" if relaxed else "")]
     for r in d["ort"]["rows"]:
         n = native.get(r["model"], {})
         top = (r.get("tract_profile_wasm") or [None])[0]
@@ -66,8 +69,9 @@ def models(d):
         # runs build fresh state and read a coarse clock, so their absolute
         # times run high; the shares hold)
         alone = f"{top['share'] * r['tract_ms'] / r['onnxruntime_web_ms']:.2f}" if top and r["onnxruntime_web_ms"] else "-"
+        rel = (f"{fmt(r.get('tract_relaxed_ms'))} | {fmt(r.get('ratio_relaxed'), 2)} | " if relaxed else "")
         out.append(f"| {r['model']} | {fmt(n.get('best_profiled_run_ms'))} | {fmt(r['tract_ms'])} | "
-                   f"{fmt(r['onnxruntime_web_ms'])} | {r['ratio']:.2f} | {first} | {alone} |")
+                   f"{fmt(r['onnxruntime_web_ms'])} | {r['ratio']:.2f} | {rel}{first} | {alone} |")
     return "\n".join(out)
 
 

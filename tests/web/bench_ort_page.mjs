@@ -1,11 +1,15 @@
 // Side by side in one headless Chromium page (one thread, wasm SIMD, the
 // same ONNX files and inputs): tract (deeprep's wasm, OnnxModel) against
 // onnxruntime-web (its wasm backend, numThreads = 1), on every bundled
-// model. Prints JSON: per case the best of N runs after one warm-up run
-// (which builds tract's plan), the ratio tract / onnxruntime-web, and the
-// largest difference between their outputs; and tract's time per operator
-// in this page (OnnxModel.profileInputs: every node of its plan timed with
-// performance.now(), top four).
+// model. Prints JSON: per case the best of 8 rounds, each runner in turn,
+// after one warm-up run of each (which builds tract's plan); the ratio
+// tract / onnxruntime-web; the largest difference between their outputs;
+// and tract's time per operator in this page (OnnxModel.profileInputs:
+// every node of its plan timed with performance.now(), top four).
+// `tract_ms` is the page-side package's build (web/pkg, SIMD);
+// `tract_relaxed_ms` and `ratio_relaxed` the worker's core build with
+// relaxed SIMD (web/pkg-core/deeprep_relaxed_bg.wasm; null where this
+// browser lacks relaxed SIMD), the third runner of each round.
 // Usage: node tests/web/bench_ort_page.mjs [--smoke]
 import { withBenchPage } from './chromium.mjs';
 
@@ -29,12 +33,29 @@ const cases = smoke ? CASES.filter(([n]) => ['rot6d_autoencoder', 'tween_generat
 await withBenchPage(async (page) => {
   const rows = await page.evaluate(async ({ cases, reps }) => {
     const m = await import('./pkg/deeprep.js');
+    // the worker's core wasm with relaxed SIMD (web/worker.js picks it where it validates)
+    const { hasRelaxedSimd } = await import('./lib/wasm-features.js');
+    let relaxed = null;
+    if (hasRelaxedSimd()) {
+      relaxed = await import('./pkg-core/deeprep.js');
+      await relaxed.default({ module_or_path: './pkg-core/deeprep_relaxed_bg.wasm' });
+    }
     const ort = await import('../node_modules/onnxruntime-web/dist/ort.wasm.min.mjs');
     ort.env.wasm.numThreads = 1;
     ort.env.wasm.wasmPaths = new URL('../node_modules/onnxruntime-web/dist/', location.href).href;
     let seed = 12345;
     const rand = () => { seed = (seed * 1103515245 + 12345) >>> 0; return seed / 2 ** 32; };
-    const best = async (f) => { await f(); let b = Infinity; for (let r = 0; r < reps; r++) { const t = performance.now(); await f(); b = Math.min(b, performance.now() - t); } return b; };
+    // Each runner once to warm up, then `reps` rounds of all of them in turn (this
+    // machine's speed drifts by 2x over minutes: in turn, a slow stretch hits
+    // every runner alike); the best time of each.
+    const bestInTurn = async (fs) => {
+      for (const f of fs) await f();
+      const b = fs.map(() => Infinity);
+      for (let r = 0; r < reps; r++) {
+        for (let i = 0; i < fs.length; i++) { const t = performance.now(); await fs[i](); b[i] = Math.min(b[i], performance.now() - t); }
+      }
+      return b;
+    };
     const out = [];
     for (const [name, file, inputs, range = [-1, 1], fold = false] of cases) {
       const bytes = new Uint8Array(await (await fetch(`../models/onnx/${file}.onnx`)).arrayBuffer());
@@ -50,22 +71,31 @@ await withBenchPage(async (page) => {
       data.reduce((at, v) => { flat.set(v, at); return at + v.length; }, 0);
       const tract = fold ? m.OnnxModel.withFoldedFactors(bytes) : new m.OnnxModel(bytes);
       const session = await ort.InferenceSession.create(bytes, { executionProviders: ['wasm'], graphOptimizationLevel: 'all' });
-      let a, b;
-      const tractMs = await best(() => { a = tract.runInputs(flat, new Uint32Array(shapes), new Uint32Array(ranks)); });
-      const ortMs = await best(async () => { b = (await session.run(feeds))[session.outputNames[0]].data; });
-      let diff = 0;
+      const tractR = relaxed && (fold ? relaxed.OnnxModel.withFoldedFactors(bytes) : new relaxed.OnnxModel(bytes));
+      let a, b, c;
+      const [tractMs, ortMs, relaxedMs = null] = await bestInTurn([
+        () => { a = tract.runInputs(flat, new Uint32Array(shapes), new Uint32Array(ranks)); },
+        async () => { b = (await session.run(feeds))[session.outputNames[0]].data; },
+        ...(tractR ? [() => { c = tractR.runInputs(flat, new Uint32Array(shapes), new Uint32Array(ranks)); }] : []),
+      ]);
+      let diff = 0, diffR = 0;
       for (let i = 0; i < a.length; i++) diff = Math.max(diff, Math.abs(a[i] - b[i]));
+      if (c) for (let i = 0; i < c.length; i++) diffR = Math.max(diffR, Math.abs(c[i] - b[i]));
       // where tract spends its time here, in wasm: its plan's nodes timed, per operator
       const profile = JSON.parse(tract.profileInputs(flat, new Uint32Array(shapes), new Uint32Array(ranks), reps))
         .slice(0, 4).map((o) => ({ op: o.op, ms: +o.ms.toFixed(2), share: +o.share.toFixed(3), nodes: o.nodes }));
       out.push({ model: name, tract_ms: +tractMs.toFixed(2), onnxruntime_web_ms: +ortMs.toFixed(2),
                  ratio: +(tractMs / ortMs).toFixed(2), max_output_difference: diff, outputs: a.length === b.length ? a.length : `${a.length} vs ${b.length}`,
+                 tract_relaxed_ms: relaxedMs === null ? null : +relaxedMs.toFixed(2),
+                 ratio_relaxed: relaxedMs === null ? null : +(relaxedMs / ortMs).toFixed(2),
+                 max_output_difference_relaxed: c ? diffR : null,
                  tract_profile_wasm: profile });
       tract.free();
+      tractR?.free();
       await session.release();
     }
     return out;
-  }, { cases, reps: smoke ? 1 : 5 });
+  }, { cases, reps: smoke ? 1 : 8 });
   console.log(JSON.stringify({ bench: 'tract_vs_onnxruntime_web', target: 'headless Chromium, wasm SIMD, one thread',
                                onnxruntime_web: '1.30.0', rows }, null, 1));
 });
