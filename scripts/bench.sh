@@ -13,6 +13,8 @@ export PATH="$HOME/.cargo/bin:$PATH"
 cargo bench --bench inbetween
 bash scripts/build-wasm.sh >/dev/null
 node tests/web/bench_page.mjs
+# the residual network's plan for any length against a length's own plan, alternately
+node tests/web/bench_plans.mjs
 # tract against onnxruntime-web on every bundled model, side by side in one page
 node tests/web/bench_ort_page.mjs
 # where tract spends its time: every node of each model's plan timed, per operator

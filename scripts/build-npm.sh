@@ -8,8 +8,9 @@ cd "$ROOT"
 rm -rf pkg
 wasm-pack build crate --mode force --no-opt --target web --out-dir ../pkg --out-name deeprep --release -- "${WASM_CARGO_FLAGS[@]:2}"
 cp web/client.js pkg/client.js
-# the worker protocol client.js is built on (shared with the demo pages)
-mkdir -p pkg/lib && cp web/lib/workers.js pkg/lib/workers.js
+# the worker protocol client.js is built on (shared with the demo pages), and
+# the feature probe worker.js picks its wasm build with
+mkdir -p pkg/lib && cp web/lib/workers.js web/lib/wasm-features.js pkg/lib/
 cp web/three.js pkg/three.js
 sed "s#'./pkg-core/#'./core/#g" web/worker.js > pkg/worker.js
 # The worker's package without the GPU code (a smaller download: the in-betweening
@@ -49,7 +50,11 @@ cat > pkg/client.d.ts <<'TS'
 export interface Progress { id: number; stage: string; fraction: number }
 /** A synthesized motion. */
 export interface SynthesisResult {
+  /** The method the request asked for. */
   method: 'model' | 'residual' | 'slerp';
+  /** The method that made the motion: 'model' runs the residual network where its manifest
+   *  makes it the default and the keys are whole poses without DNA, else the generator. */
+  ran: 'residual' | 'generator' | 'slerp';
   /** BVH text, 60 fps, the model's skeleton; empty when the request said `bvh: false`. */
   bvh: string;
   frames: number;

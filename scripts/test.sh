@@ -36,6 +36,7 @@ section "bench: smoke runs (one 512-frame in-betweening, one mesh encode/decode,
 DEEPREP_BENCH_SMOKE=1 cargo test --bench inbetween
 node tests/web/bench_page.mjs --smoke
 node tests/web/bench_ort_page.mjs --smoke
+node tests/web/bench_plans.mjs 256
 DEEPREP_BENCH_SMOKE=1 cargo test --bench mesh
 node tests/web/bench_mesh_page.mjs --smoke
 DEEPREP_BENCH_SMOKE=1 cargo test --bench hair

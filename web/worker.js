@@ -9,7 +9,8 @@
 //   -> {type: 'synthesize', id, keyFrames, keyChannels, frames, post, dna, method, variation, footLock, bvh}
 //      (bvh: false: the result's bvh is '', its text not written)
 //      or {type: 'synthesize', id, keys, frames, ...}: keys of any kind (pose, root, xy; motion::keys)
-//   <- {type: 'progress', id, stage, fraction}  ...  {type: 'result', id, ...} | {type: 'error', id, message}
+//   <- {type: 'progress', id, stage, fraction}  ...  {type: 'result', id, method, ran, ...} | {type: 'error', id, message}
+//      (ran: the method that made the motion, 'residual', 'generator' or 'slerp')
 //   -> {type: 'rcAngles', id, channels, joint} / {type: 'setRcAngles', id, channels, joint, angles}
 //   -> {type: 'ik', id, positions, frames}   (IK from joint positions; the IK model loads on first use)
 //   -> {type: 'importBvh', id, bytes}        (parse a user's file here, never on the page)
@@ -18,17 +19,7 @@
 //      hit a RuntimeError (a deeprep bug); the client then replaces this worker.
 // the package without the GPU code (web/pkg-core): a smaller download
 import init, { Inbetweener, IkSolver, BvhClip } from './pkg-core/deeprep.js';
-
-// A module that validates only where the browser has relaxed SIMD: three
-// f32x4 splats into f32x4.relaxed_madd (opcode 0xfd 0x105).
-const RELAXED_SIMD_PROBE = new Uint8Array([
-  0, 97, 115, 109, 1, 0, 0, 0, 1, 5, 1, 96, 0, 1, 123, 3, 2, 1, 0, 10, 28, 1, 26, 0,
-  67, 0, 0, 0, 0, 253, 19, 67, 0, 0, 0, 0, 253, 19, 67, 0, 0, 0, 0, 253, 19, 253, 133, 2, 11]);
-
-/** Whether this browser runs relaxed SIMD. */
-function hasRelaxedSimd() {
-  try { return WebAssembly.validate(RELAXED_SIMD_PROBE); } catch { return false; }
-}
+import { hasRelaxedSimd } from './lib/wasm-features.js';
 
 /** Starts the wasm: the relaxed-SIMD build (issue 23: tract's matrix kernel
  *  fuses its multiply-adds, about 15% off the in-betweening network) where the
@@ -209,13 +200,31 @@ function importBvh(msg) {
 function postResult(id, method, r, withBvh = true) {
   const positions = r.positions, translations = r.translations, quaternions = r.quaternions;
   const times = Array.from(r.times), keyError = Array.from(r.keyError);
-  postMessage({ type: 'result', id, method, bvh: withBvh ? r.bvh : '', frames: r.frames, frameTime: r.frameTime, times, keyError,
+  const ran = r.method, frames = r.frames;
+  postMessage({ type: 'result', id, method, ran, bvh: withBvh ? r.bvh : '', frames, frameTime: r.frameTime, times, keyError,
                 // the same numbers by name
                 stages: { generatorMs: times[0], rcfkMs: times[1], pathMs: times[2], postMs: times[3] },
                 keyErrors: { before: { root: keyError[0], joints: keyError[1] }, after: { root: keyError[2], joints: keyError[3] } },
                 criticalFrames: Array.from(r.criticalFrames), positions, translations, quaternions },
               [positions.buffer, translations.buffer, quaternions.buffer]);
   r.free();
+  if (ran === 'residual') prepareWhenIdle(frames);
+}
+
+/** After a residual synthesis of `frames` frames, once the worker is idle:
+ *  the residual network's own plan for that length (Inbetweener.prepareLength;
+ *  11-18% faster than the any-length plan the first request ran on at 2,048-4,096
+ *  frames, little at 1,024; 100-360 ms
+ *  to build), so the next request of that length (an animator adjusting keys)
+ *  runs faster. A request that arrives first is served first. */
+function prepareWhenIdle(frames) {
+  setTimeout(() => {
+    try {
+      model?.prepareLength(frames);
+    } catch (e) {
+      console.warn(`deeprep: the plan for ${frames} frames was not built (${e.message || e})`);
+    }
+  }, 0);
 }
 
 function handle(msg) {

@@ -2,7 +2,7 @@
 //! optimize a plan for one length against one plan for any length
 //! (`runtime::Model::prepare_any_shape`), and their run times. Prints JSON.
 //!
-//!   cargo run --release --example plan_probe -- models/onnx/tween_generator.onnx
+//!   cargo run --release --example plan_probe -- models/onnx/tween_generator.onnx [FRAMES...]
 //!
 //! Symbols named `frames` take each probed length; any other symbol
 //! (the generator's `dna_frames`) takes 4.
@@ -31,7 +31,19 @@ fn main() -> TractResult<()> {
             .unwrap_or(if format!("{d}") == "frames" { n } else { 4 })
     };
     let mut rows = Vec::new();
-    for n in [64usize, 128, 640] {
+    let lengths: Vec<usize> = std::env::args()
+        .skip(2)
+        .map(|a| {
+            a.parse()
+                .map_err(|_| TractError::msg(format!("not a frame count: {a}")))
+        })
+        .collect::<TractResult<_>>()?;
+    let lengths = if lengths.is_empty() {
+        vec![64, 128, 640]
+    } else {
+        lengths
+    };
+    for n in lengths {
         let mut values = std::collections::HashMap::new();
         for s in typed.symbols.all_symbols() {
             let v = if format!("{s}") == "frames" { n } else { 4 };

@@ -3,7 +3,8 @@
 //! A [`Model`] is parsed once. Models with a symbolic axis (for example a
 //! frame count) are kept typed but unoptimized; each request fixes the
 //! symbols and optimizes a plan for that shape (a few ms), which runs as fast
-//! as a model exported with a fixed shape. Plans are cached per shape.
+//! as a model exported with a fixed shape. Plans are kept per shape (the
+//! [`MAX_SHAPE_PLANS`] most recently used).
 //!
 //! Optimizing a plan costs more than running it (the in-betweening
 //! generator: 40 ms to optimize, 3 ms to run 64 frames natively; in a
@@ -13,7 +14,10 @@
 //! symbols left free, which then serves every shape: natively it runs
 //! 1.3-1.45x the time of a shape's own plan (the generator at 64 to 640
 //! frames, `examples/plan_probe.rs`), in the browser worker a 60-frame
-//! synthesis took 35 ms against 32 ms.
+//! synthesis took 35 ms against 32 ms. A shape's own plan can still be
+//! built later, when the caller is idle ([`Model::prepare_shape`]), and then
+//! serves that shape; the residual network's runs 11-18% faster in wasm
+//! at 2,048-4,096 frames.
 
 use crate::error::{Error, Result};
 use std::collections::HashMap;
@@ -100,10 +104,19 @@ pub fn per_op(runs: &[Vec<NodeTime>]) -> Vec<OpTime> {
     acc
 }
 
+/// The most plans of particular input shapes a [`Model`] keeps, least
+/// recently used dropped first: each holds its own packed copy of the
+/// weights (the residual network's is 3.7 MB), so a caller that runs many
+/// lengths must not grow memory by one plan per length.
+pub const MAX_SHAPE_PLANS: usize = 4;
+
+/// Plans of particular input shapes, the most recently used last.
+type ShapePlans = Vec<(Vec<Vec<usize>>, std::sync::Arc<Plan>)>;
+
 /// A loaded ONNX model.
 pub struct Model {
     typed: TypedModel,
-    plans: Mutex<HashMap<Vec<Vec<usize>>, std::sync::Arc<Plan>>>,
+    plans: Mutex<ShapePlans>,
     /// The plan for any shape ([`Model::prepare_any_shape`]).
     any_shape: Mutex<Option<std::sync::Arc<Plan>>>,
 }
@@ -201,7 +214,7 @@ impl Model {
         Ok((
             Model {
                 typed,
-                plans: Mutex::new(HashMap::new()),
+                plans: Mutex::new(Vec::new()),
                 any_shape: Mutex::new(None),
             },
             n,
@@ -352,9 +365,39 @@ impl Model {
         Ok(values)
     }
 
+    /// Optimizes and keeps the plan of one set of input shapes, which then
+    /// runs requests of those shapes instead of the plan for any shape
+    /// ([`Model::prepare_any_shape`]). With concrete shapes tract picks
+    /// kernels it cannot for a symbolic length: in wasm the residual
+    /// network's dilated convolutions read their input in place (tract's
+    /// lazy im2col) instead of copying it out first, 11-18% faster at 2,048
+    /// and 4,096 frames in headless Chromium (0-13% at 1,024, where part of
+    /// it stays eager), but the plan costs 100-360 ms
+    /// to build there: a worker builds it when idle, after a request of that
+    /// length. Returns whether a plan was built (false when it is kept
+    /// already). At most [`MAX_SHAPE_PLANS`] are kept.
+    pub fn prepare_shape(&self, shapes: &[Vec<usize>]) -> Result<bool> {
+        if self.cached_plan(shapes)?.is_some() {
+            return Ok(false);
+        }
+        self.build_plan(shapes).map(|_| true)
+    }
+
+    /// The kept plan of these shapes, marked most recently used.
+    fn cached_plan(&self, shapes: &[Vec<usize>]) -> Result<Option<std::sync::Arc<Plan>>> {
+        let mut plans = self.plans.lock().map_err(model_err)?;
+        let Some(i) = plans.iter().position(|(k, _)| k.as_slice() == shapes) else {
+            return Ok(None);
+        };
+        let hit = plans.remove(i);
+        let plan = hit.1.clone();
+        plans.push(hit);
+        Ok(Some(plan))
+    }
+
     fn plan_for(&self, shapes: &[Vec<usize>]) -> Result<std::sync::Arc<Plan>> {
-        if let Some(p) = self.plans.lock().map_err(model_err)?.get(shapes) {
-            return Ok(p.clone());
+        if let Some(p) = self.cached_plan(shapes)? {
+            return Ok(p);
         }
         if let Some(plan) = self.any_shape.lock().map_err(model_err)?.as_ref() {
             self.check_shapes(shapes)?;
@@ -375,10 +418,11 @@ impl Model {
             .map_err(model_err)?
             .into_runnable()
             .map_err(model_err)?;
-        self.plans
-            .lock()
-            .map_err(model_err)?
-            .insert(shapes.to_vec(), plan.clone());
+        let mut plans = self.plans.lock().map_err(model_err)?;
+        if plans.len() >= MAX_SHAPE_PLANS {
+            plans.remove(0);
+        }
+        plans.push((shapes.to_vec(), plan.clone()));
         Ok(plan)
     }
 }
@@ -679,6 +723,60 @@ mod half_tests {
         });
         let e = widen_half_weights(&mut g).unwrap_err().to_string();
         assert!(e.contains("float16 initializer 'w::float16'"), "{e}");
+    }
+
+    #[test]
+    fn shape_plans_serve_their_shape_and_the_least_recently_used_goes() {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../models/onnx/tween_path.onnx");
+        let bytes = match std::fs::read(&path) {
+            Ok(b) => b,
+            Err(_) => return eprintln!("SKIP: models/onnx/tween_path.onnx missing"),
+        };
+        let m = Model::from_onnx_bytes(&bytes).unwrap();
+        assert!(m.prepare_any_shape().unwrap());
+        let shape = |n: usize| vec![vec![1, 171, n]];
+        let x = |n: usize| {
+            let v = (0..171 * n).map(|i| (i as f32 * 0.37).sin()).collect();
+            [TensorF32::new(v, vec![1, 171, n]).unwrap()]
+        };
+        let any = m.run(&x(40)).unwrap();
+        assert!(m.prepare_shape(&shape(40)).unwrap());
+        assert!(!m.prepare_shape(&shape(40)).unwrap(), "kept");
+        let own = m.run(&x(40)).unwrap();
+        let diff = any[0]
+            .data
+            .iter()
+            .zip(&own[0].data)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0f32, f32::max);
+        assert!(diff < 1e-4, "own plan vs any-shape plan: {diff}");
+        for n in 41..41 + MAX_SHAPE_PLANS {
+            assert!(m.prepare_shape(&shape(n)).unwrap());
+        }
+        let kept: Vec<usize> = m
+            .plans
+            .lock()
+            .unwrap()
+            .iter()
+            .map(|(k, _)| k[0][2])
+            .collect();
+        assert_eq!(kept, (41..41 + MAX_SHAPE_PLANS).collect::<Vec<_>>());
+        // using a plan makes it the most recently used
+        m.run(&x(41)).unwrap();
+        assert!(m.prepare_shape(&shape(40)).unwrap(), "40 was dropped");
+        let kept: Vec<usize> = m
+            .plans
+            .lock()
+            .unwrap()
+            .iter()
+            .map(|(k, _)| k[0][2])
+            .collect();
+        assert_eq!(kept, vec![43, 44, 41, 40]);
+        assert!(
+            m.prepare_shape(&[vec![1, 170, 40]]).is_err(),
+            "fixed axis checked"
+        );
     }
 
     #[test]

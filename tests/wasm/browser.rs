@@ -103,6 +103,35 @@ fn onnx_models_profile_per_operator_in_the_browser() {
     assert!(m.profile_inputs(&input[1..], &shape, &ranks, 1).is_err());
 }
 
+/// `OnnxModel.prepareAnyShape`: one plan for every frame count, which
+/// gives the outputs of each length's own plan.
+#[wasm_bindgen_test]
+fn onnx_models_prepare_one_plan_for_any_length() {
+    let own = deeprep::wasm::OnnxModel::new(TWEEN_PATH).unwrap();
+    let any = deeprep::wasm::OnnxModel::new(TWEEN_PATH).unwrap();
+    assert!(any.prepare_any_shape().unwrap());
+    assert!(!any.prepare_any_shape().unwrap(), "built once");
+    for frames in [40u32, 97] {
+        let x: Vec<f32> = (0..171 * frames).map(|i| (i as f32 * 0.37).sin()).collect();
+        let shape = [1, 171, frames];
+        let (a, b) = (own.run(&x, &shape).unwrap(), any.run(&x, &shape).unwrap());
+        assert_eq!(a.len(), b.len());
+        let diff = a
+            .iter()
+            .zip(&b)
+            .map(|(p, q)| (p - q).abs())
+            .fold(0.0f32, f32::max);
+        assert!(
+            diff < 1e-4,
+            "{frames} frames: any-length plan differs by {diff}"
+        );
+    }
+    assert!(
+        any.run(&[0.0; 170], &[1, 170, 1]).is_err(),
+        "fixed axis still checked"
+    );
+}
+
 const IK_MODEL: &[u8] = include_bytes!("../../models/onnx/ik.onnx");
 const IK_MANIFEST: &str = include_str!("../../models/onnx/ik.manifest.json");
 const IK_FIXTURE: &str = include_str!("../../models/onnx/fixtures/ik.json");

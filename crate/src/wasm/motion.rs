@@ -78,6 +78,7 @@ pub struct InbetweenResult {
     times: Vec<f64>,
     key_error: Vec<f64>,
     critical_frames: Vec<u32>,
+    method: &'static str,
 }
 
 /// A result's BVH text: given, or written from its motion when first read
@@ -173,6 +174,16 @@ impl InbetweenResult {
     pub fn critical_frames(&self) -> Vec<u32> {
         self.critical_frames.clone()
     }
+
+    /// The method that made this motion: "residual" (the residual
+    /// network), "generator" (generator, RC-FK, path predictor) or "slerp"
+    /// (SLERP+LERP). The "model" method runs the residual network where its
+    /// manifest makes it the default and it serves the keys (whole poses, no
+    /// DNA), else the generator.
+    #[wasm_bindgen(getter)]
+    pub fn method(&self) -> String {
+        self.method.into()
+    }
 }
 
 fn keys_from_channels(
@@ -209,6 +220,7 @@ const FRAME_TIME: f64 = 1.0 / 60.0;
 fn result_from(
     template: &crate::skeleton::Bvh,
     motion: crate::motion::Motion,
+    method: &'static str,
     times: Vec<f64>,
     key_error: Vec<f64>,
 ) -> Result<InbetweenResult, JsError> {
@@ -226,6 +238,7 @@ fn result_from(
         times,
         key_error,
         critical_frames: Vec::new(),
+        method,
     })
 }
 
@@ -367,11 +380,12 @@ impl Inbetweener {
         clip::check_skeleton(&b, &self.inner.template).map_err(js_err)?;
         let frames: Vec<usize> = key_frames.iter().map(|&f| f as usize).collect();
         let ck = clip::clip_keys(&b, &frames, true).map_err(js_err)?;
-        let (motion, times, key_error) = match method {
+        let (motion, times, key_error, ran) = match method {
             "slerp" => (
                 crate::motion::baseline::slerp_lerp(&ck.keys, ck.frames()).map_err(js_err)?,
                 vec![0.0; 4],
                 vec![0.0; 4],
+                "slerp",
             ),
             "model" => {
                 let req = crate::motion::pipeline::Request {
@@ -392,6 +406,7 @@ impl Inbetweener {
                     out.motion.clone(),
                     vec![t.generator_ms, t.rcfk_ms, t.path_ms, t.post_ms],
                     vec![e.0.root, e.0.local, e.1.root, e.1.local],
+                    "generator",
                 )
             }
             m => {
@@ -412,6 +427,7 @@ impl Inbetweener {
             times,
             key_error,
             critical_frames: Vec::new(),
+            method: ran,
         })
     }
 
@@ -440,6 +456,21 @@ impl Inbetweener {
     #[wasm_bindgen(getter, js_name = hasResidual)]
     pub fn has_residual(&self) -> bool {
         self.residual.is_some()
+    }
+
+    /// Builds and keeps the residual network's own plan for `frames` frames,
+    /// which then serves that length instead of the plan for any length
+    /// ([`Inbetweener::prepare_any_length`]): 11-18% faster at 2,048-4,096
+    /// frames (0-13% at 1,024), but 100-360 ms to build, so the npm worker calls it when idle
+    /// after a synthesis of that length (the four most recent lengths are
+    /// kept). Returns whether a plan was built: false when no residual
+    /// network is loaded or that length's plan is kept already.
+    #[wasm_bindgen(js_name = prepareLength)]
+    pub fn prepare_length(&self, frames: usize) -> Result<bool, JsError> {
+        match &self.residual {
+            Some(r) => r.prepare_length(frames).map_err(js_err),
+            None => Ok(false),
+        }
     }
 
     /// The supervised residual on SLERP+LERP (issue 19, stage 1) between
@@ -530,6 +561,7 @@ impl Inbetweener {
         let mut r = result_from(
             &self.inner.template,
             out.motion,
+            "generator",
             vec![t.generator_ms, t.rcfk_ms, t.path_ms, t.post_ms],
             vec![
                 out.key_error_raw.root,
@@ -554,7 +586,7 @@ impl Inbetweener {
             .residual
             .as_ref()
             .ok_or_else(|| JsError::new("the residual network is not loaded (setResidual)"))?;
-        self.timed(|| {
+        self.timed("residual", || {
             let mut m = r.synthesize(keys, frames, variation.unwrap_or(r.default_variation))?;
             if foot_lock {
                 let cfg = crate::motion::feet::FootLock::default();
@@ -569,12 +601,15 @@ impl Inbetweener {
         keys: &[crate::motion::Keyframe],
         frames: usize,
     ) -> Result<InbetweenResult, JsError> {
-        self.timed(|| crate::motion::baseline::slerp_lerp(keys, frames))
+        self.timed("slerp", || {
+            crate::motion::baseline::slerp_lerp(keys, frames)
+        })
     }
 
     /// A one-stage result: `run`'s motion, its time as the first stage's.
     fn timed(
         &self,
+        method: &'static str,
         run: impl FnOnce() -> crate::error::Result<crate::motion::Motion>,
     ) -> Result<InbetweenResult, JsError> {
         let t0 = js_sys::Date::now();
@@ -583,6 +618,7 @@ impl Inbetweener {
         result_from(
             &self.inner.template,
             m,
+            method,
             vec![ms, 0.0, 0.0, 0.0],
             vec![0.0; 4],
         )

@@ -32,6 +32,16 @@ impl OnnxModel {
         })
     }
 
+    /// Optimizes, once, one plan with the model's symbolic dimensions
+    /// (a frame count) left free, which then runs every shape, so that a
+    /// new shape does not wait for a plan of its own
+    /// (`runtime::Model::prepare_any_shape`). Returns whether a plan was
+    /// built (false for a model without symbols, or when one exists).
+    #[wasm_bindgen(js_name = prepareAnyShape)]
+    pub fn prepare_any_shape(&self) -> Result<bool, JsError> {
+        self.inner.prepare_any_shape().map_err(js_err)
+    }
+
     /// Runs a single-input model; returns its first output, flattened.
     pub fn run(&self, input: &[f32], shape: &[u32]) -> Result<Vec<f32>, JsError> {
         let t = TensorF32::new(input.to_vec(), shape.iter().map(|d| *d as usize).collect())

@@ -34,12 +34,21 @@ try {
   const t2 = performance.now();
   await client.synthesize({ keyFrames: [0, 59], keyChannels: [...row, ...row], frames: 60, post: true });
   document.body.dataset.warmSynthesisMs = String(performance.now() - t2);
+  // whole-pose keys ran the residual network; once idle, the worker built its plan for
+  // 60 frames (prepareWhenIdle), which makes the same motion as the any-length plan
+  if (r.ran !== 'residual') throw new Error(`whole-pose keys ran '${r.ran}', not the residual network`);
+  await new Promise((done) => setTimeout(done, 200));
+  const own = await client.synthesize({ keyFrames: [0, 59], keyChannels: [...row, ...row], frames: 60, post: true, bvh: false });
+  let planGap = 0;
+  for (let i = 0; i < own.positions.length; i++) planGap = Math.max(planGap, Math.abs(own.positions[i] - r.positions[i]));
+  if (!(planGap < 1e-3)) throw new Error(`the length's own plan and the any-length plan differ by ${planGap}`);
   // a 120 fps clip of 121 frames on the model's skeleton, keys at its frames 0, 60 and 120:
   // synthesized at 60 fps and returned at 120 fps with the clip's length
   const head = client.skeletonBvh.replace(/MOTION[\s\S]*/, '');
   const rows = Array.from({ length: 121 }, (_, f) => row.map((v, i) => (i === 0 ? f * 0.5 : i === 7 ? 20 * Math.sin(f / 20) : v)).join(' '));
   const fromClip = await client.synthesizeFromBvh(`${head}MOTION\nFrames: 121\nFrame Time: 0.00833333\n${rows.join('\n')}\n`, { keys: [0, 60, 120] });
   if (fromClip.frames !== 121 || !/Frame Time: 0.00833333/.test(fromClip.bvh)) throw new Error(`synthesizeFromBvh: ${fromClip.frames} frames`);
+  if (fromClip.ran !== 'generator') throw new Error(`synthesizeFromBvh ran '${fromClip.ran}'`);
   // three.js without text: the same tracks as BVHLoader on the BVH text, and the clip plays
   const three = toThree(r, client.skeleton);
   const ref = new BVHLoader().parse(r.bvh);
