@@ -38,7 +38,9 @@ test('sketch page: 3 keys, 512 frames, drawn, exported, undoable', async () => {
     throw new Error(`page never became ready: ${await page.textContent('#status')} ${errors.join(' | ')} (${e.message})`);
   });
   assert.deepEqual(errors, []);
-  assert.match(await page.textContent('#method-badge'), /Generative Tweening model/);
+  // the badge names what ran: the default method's whole-pose keys go to the
+  // residual network (its manifest makes it the default for them)
+  assert.equal(await page.textContent('#method-badge'), 'supervised residual network');
   // The wgpu renderer: WebGPU, or WebGL2 when the WebGPU device is lost
   // (headless Chromium's SwiftShader WebGPU cannot present a canvas and
   // loses its device after the first frame), never the 2-D fallback.
@@ -104,6 +106,17 @@ test('sketch page: 3 keys, 512 frames, drawn, exported, undoable', async () => {
   assert.match(text, /Frames: 512/);
   const parsed = new BVHLoader().parse(text);
   assert.equal(parsed.clip.tracks[0].times.length, 512);
+  // The synthesis came without its text (bvh: false); the export ran the
+  // result's request again with it: the same motion, and the text is kept.
+  const again = await page.evaluate(async () => {
+    const s = window.deeprepState;
+    const r = await s.client.synthesize({ ...s.result.request, bvh: true });
+    let d = 0;
+    for (let i = 0; i < r.positions.length; i++) d = Math.max(d, Math.abs(r.positions[i] - s.result.positions[i]));
+    return { d, same: r.positions.length === s.result.positions.length, text: r.bvh === s.result.bvh };
+  });
+  assert.deepEqual(again, { d: 0, same: true, text: true });
+  assert.equal(await page.evaluate(() => window.deeprepState.result.bvh), text);
 
   // Undo restores the deleted key; redo removes it again.
   const keyFrames = () => page.evaluate(() => window.deeprepState.keys.map((k) => k.frame).sort((a, b) => a - b));

@@ -3,11 +3,28 @@
 import { $, setStatus, state } from './state.js';
 import { draw } from './view.js';
 
-export function exportBvh() {
-  if (!state.result) { setStatus('synthesize first: nothing to export yet', true); return; }
+/**
+ * Downloads the result as BVH. A synthesis comes without its text (writing it
+ * is a fifth of a long synthesis, and most results are only watched): the
+ * first export runs the same request again with it (the synthesis is
+ * deterministic) and keeps the text for the next.
+ */
+export async function exportBvh() {
+  const result = state.result;
+  if (!result) { setStatus('synthesize first: nothing to export yet', true); return; }
+  if (result.bvh === null) {
+    setStatus('writing the BVH…');
+    try {
+      result.bvh = (await state.client.synthesize({ ...result.request, bvh: true })).bvh;
+    } catch (e) {
+      setStatus(`the export failed: ${e.message} (your keys and the result are unchanged)`, true);
+      return;
+    }
+    setStatus('ready');
+  }
   const a = document.createElement('a');
-  a.href = URL.createObjectURL(new Blob([state.result.bvh], { type: 'text/plain' }));
-  a.download = `deeprep-${state.result.frames}f.bvh`;
+  a.href = URL.createObjectURL(new Blob([result.bvh], { type: 'text/plain' }));
+  a.download = `deeprep-${result.frames}f.bvh`;
   a.click();
   setTimeout(() => URL.revokeObjectURL(a.href), 1000);
 }

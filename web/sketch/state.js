@@ -13,7 +13,7 @@ export const state = {
   length: 300,
   frame: 0,
   playing: false,
-  result: null,        // { positions, frames, bvh, method, times }
+  result: null,        // { positions, frames, bvh (null until an export writes it), request, method, times }
   ghost: null,         // the same keys with the next seed: { positions, frames, seed, meanDistance }
   selected: -1,        // joint index
   undo: [], redo: [],

@@ -52,7 +52,7 @@ export async function compareSeeds() {
   const seed = Number($('seed').value) + 1;
   try {
     const keys = state.keys.filter((k) => k.frame < state.result.frames);
-    const run = (s) => state.client.synthesize(request(keys, state.result.frames, 'model', dnaChannels(s, { fallbackToPool: true })));
+    const run = (s) => state.client.synthesize({ ...request(keys, state.result.frames, 'model', dnaChannels(s, { fallbackToPool: true })), bvh: false });
     const [first, r] = [await run(seed - 1), await run(seed)];
     const a = first.positions, b = r.positions;
     let d = 0;
@@ -85,14 +85,17 @@ export async function synthesize() {
   $('progress').value = 0;
   try {
     const t0 = performance.now();
-    const r = await state.client.synthesize(request(keys, length, method, dnaChannels()));
-    state.result = { positions: r.positions, frames: r.frames, bvh: r.bvh, method, times: r.times };
+    // Without its BVH text (a fifth of a long synthesis): the export asks for it (io.js).
+    const req = request(keys, length, method, dnaChannels());
+    const r = await state.client.synthesize({ ...req, bvh: false });
+    state.result = { positions: r.positions, frames: r.frames, bvh: null, request: req, method, times: r.times };
     state.ghost = null;
     $('seed-note').textContent = '';
-    $('method-badge').textContent = METHOD_NAMES[method] || 'Generative Tweening model';
+    // what ran: 'model' is the residual network for whole-pose keys where its manifest says so
+    $('method-badge').textContent = METHOD_NAMES[r.ran] || 'Generative Tweening model';
     $('method-badge').classList.toggle('baseline', method === 'slerp');
     const ms = performance.now() - t0;
-    $('timing').textContent = `${r.frames} frames in ${ms.toFixed(0)} ms` + (method === 'model' ? ` (generator ${r.times[0].toFixed(0)} ms, RC-FK ${r.times[1].toFixed(0)}, path ${r.times[2].toFixed(0)}, post ${r.times[3].toFixed(0)})` : '')
+    $('timing').textContent = `${r.frames} frames in ${ms.toFixed(0)} ms` + (r.ran === 'generator' ? ` (generator ${r.times[0].toFixed(0)} ms, RC-FK ${r.times[1].toFixed(0)}, path ${r.times[2].toFixed(0)}, post ${r.times[3].toFixed(0)})` : '')
       + (partial && r.keyErrors ? `; keys met within ${r.keyErrors.after.root.toFixed(2)} (root), ${r.keyErrors.after.joints.toFixed(2)} (joints, the coordinates keys give) units; the networks alone missed by ${r.keyErrors.before.root.toFixed(1)}, ${r.keyErrors.before.joints.toFixed(1)}` : '')
       + (r.criticalFrames?.length ? `; hierarchical (a gap over 600 frames): critical keys made first at frames ${r.criticalFrames.join(', ')}` : '');
     $('progress').value = 1;
