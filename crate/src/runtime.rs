@@ -754,25 +754,20 @@ mod half_tests {
         for n in 41..41 + MAX_SHAPE_PLANS {
             assert!(m.prepare_shape(&shape(n)).unwrap());
         }
-        let kept: Vec<usize> = m
-            .plans
-            .lock()
-            .unwrap()
-            .iter()
-            .map(|(k, _)| k[0][2])
-            .collect();
-        assert_eq!(kept, (41..41 + MAX_SHAPE_PLANS).collect::<Vec<_>>());
+        // the kept plans' lengths, least recently used first
+        let kept = || -> Vec<usize> {
+            m.plans
+                .lock()
+                .unwrap()
+                .iter()
+                .map(|(k, _)| k[0][2])
+                .collect()
+        };
+        assert_eq!(kept(), (41..41 + MAX_SHAPE_PLANS).collect::<Vec<_>>());
         // using a plan makes it the most recently used
         m.run(&x(41)).unwrap();
         assert!(m.prepare_shape(&shape(40)).unwrap(), "40 was dropped");
-        let kept: Vec<usize> = m
-            .plans
-            .lock()
-            .unwrap()
-            .iter()
-            .map(|(k, _)| k[0][2])
-            .collect();
-        assert_eq!(kept, vec![43, 44, 41, 40]);
+        assert_eq!(kept(), vec![43, 44, 41, 40]);
         assert!(
             m.prepare_shape(&[vec![1, 170, 40]]).is_err(),
             "fixed axis checked"
