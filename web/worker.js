@@ -213,10 +213,10 @@ function postResult(id, method, r, withBvh = true) {
 
 /** After a residual synthesis of `frames` frames, once the worker is idle:
  *  the residual network's own plan for that length (Inbetweener.prepareLength;
- *  11-18% faster than the any-length plan the first request ran on at 2,048-4,096
- *  frames, little at 1,024; 100-360 ms
- *  to build), so the next request of that length (an animator adjusting keys)
- *  runs faster. A request that arrives first is served first. */
+ *  11-18% faster than the any-length plan the first request ran on at
+ *  2,048-4,096 frames, little at 1,024; 100-360 ms to build), so the next
+ *  requests of that length (an animator adjusting keys) run faster. A request
+ *  already queued may run before it; one that comes while it builds waits. */
 function prepareWhenIdle(frames) {
   setTimeout(() => {
     try {
