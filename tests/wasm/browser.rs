@@ -13,6 +13,14 @@ const ROT_FIXTURE: &str = include_str!("../fixtures/rotations_native.json");
 const MODEL: &[u8] = include_bytes!("../../models/onnx/rot6d_autoencoder.onnx");
 const MODEL_FIXTURE: &str = include_str!("../../models/onnx/fixtures/rot6d_autoencoder.json");
 
+/// The largest absolute difference between two equally long slices.
+fn max_abs_diff(a: &[f32], b: &[f32]) -> f32 {
+    a.iter()
+        .zip(b)
+        .map(|(p, q)| (p - q).abs())
+        .fold(0.0f32, f32::max)
+}
+
 fn floats(v: &serde_json::Value) -> Vec<f32> {
     v.as_array()
         .unwrap()
@@ -31,11 +39,7 @@ fn rotation_batches_match_native_outputs() {
         let got = batch::convert(Repr::Matrix, Repr::parse(name).unwrap(), &input).unwrap();
         let expected = floats(expected);
         assert_eq!(got.len(), expected.len(), "{name}");
-        let diff = got
-            .iter()
-            .zip(&expected)
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0f32, f32::max);
+        let diff = max_abs_diff(&got, &expected);
         // Rounding of sin/cos/atan2 may differ by an ulp between wasm's libm
         // and the native C library.
         assert!(diff < 1e-5, "{name}: wasm vs native max abs diff {diff}");
@@ -69,12 +73,7 @@ fn tract_runs_the_tiny_network_in_the_browser() {
     let expected = floats(&f["output_onnxruntime"]);
     let model = Model::from_onnx_bytes(MODEL).unwrap();
     let out = model.run(&[TensorF32::new(input, shape).unwrap()]).unwrap();
-    let diff = out[0]
-        .data
-        .iter()
-        .zip(&expected)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0f32, f32::max);
+    let diff = max_abs_diff(&out[0].data, &expected);
     assert!(diff <= 1e-5, "tract in Chromium vs onnxruntime: {diff}");
 }
 
@@ -116,11 +115,7 @@ fn onnx_models_prepare_one_plan_for_any_length() {
         let shape = [1, 171, frames];
         let (a, b) = (own.run(&x, &shape).unwrap(), any.run(&x, &shape).unwrap());
         assert_eq!(a.len(), b.len());
-        let diff = a
-            .iter()
-            .zip(&b)
-            .map(|(p, q)| (p - q).abs())
-            .fold(0.0f32, f32::max);
+        let diff = max_abs_diff(&a, &b);
         assert!(
             diff < 1e-4,
             "{frames} frames: any-length plan differs by {diff}"
@@ -144,12 +139,7 @@ fn ik_from_joint_positions_runs_in_the_browser() {
     let solver = deeprep::wasm::IkSolver::new(IK_MODEL, IK_MANIFEST).unwrap();
     let r = solver.solve(&x, frames).unwrap();
     let expected = floats(&f["reconstructed_positions_torch"]);
-    let diff = r
-        .positions()
-        .iter()
-        .zip(&expected)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0f32, f32::max);
+    let diff = max_abs_diff(&r.positions(), &expected);
     assert!(diff <= 2e-3, "wasm IK reconstruction vs PyTorch: {diff}");
     assert!(r.bvh().contains("MOTION"));
     assert!(solver.solve(&x[1..], frames).is_err());

@@ -463,8 +463,9 @@ impl Inbetweener {
     /// ([`Inbetweener::prepare_any_length`]): 11-18% faster at 2,048-4,096
     /// frames (0-13% at 1,024), but 100-360 ms to build, so the npm worker
     /// calls it when idle after a synthesis of that length (the four most
-    /// recent lengths are kept). Returns whether a plan was built: false when no residual
-    /// network is loaded or that length's plan is kept already.
+    /// recent lengths are kept). Returns whether a plan was built: false
+    /// when no residual network is loaded or that length's plan is kept
+    /// already.
     #[wasm_bindgen(js_name = prepareLength)]
     pub fn prepare_length(&self, frames: usize) -> Result<bool, JsError> {
         match &self.residual {
