@@ -94,3 +94,40 @@ def test_regular_keys_repeat_one_interval_and_end_on_the_last_frame(residual):
         assert gaps[-1] < 2 * 15 + gaps[0]  # the rest went to the last interval
         free = residual.sample_keys(480, rng)
         assert free[0] == 0 and free[-1] == 479 and np.diff(free).min() >= 1
+
+
+def test_prune_keeps_the_channels_that_carry_the_output_skip_included(residual, tmp_path):
+    """`residual prune` to a narrower width: where the dropped stream and
+    hidden channels carry nothing (zero weights in and out), the narrower
+    network computes what the wider one does, the full-rate skip's rows
+    pruned with the stream's."""
+    import argparse
+
+    torch.manual_seed(0)
+    wide = residual.ResidualTween(2, 8, (1, 2), stride=2, skip=True)
+    with torch.no_grad():
+        for p in wide.parameters():
+            torch.nn.init.normal_(p, std=0.3)
+        dead = slice(2, 4)  # stream channels 2 and 3, hidden channels 2 and 3 of each block
+        for m in (wide.inp, wide.skip):
+            m.weight[dead] = 0
+            m.bias[dead] = 0
+        wide.out.weight[:, dead] = 0
+        for b in wide.blocks:
+            b.c1.weight[:, dead] = 0  # reads nothing from the dead stream channels
+            b.c1.weight[dead] = 0  # the dead hidden channels: zero in ...
+            b.c1.bias[dead] = 0
+            b.c2.weight[:, dead] = 0  # ... and zero out
+            b.c2.weight[dead] = 0  # writes nothing to the dead stream channels
+            b.c2.bias[dead] = 0
+    sd = wide.state_dict()
+    torch.save({"step": 7, **wide.arch(), "net": sd, "ema": sd}, tmp_path / "wide.pt")
+    residual.prune(argparse.Namespace(ckpt=str(tmp_path / "wide.pt"), width=6, out=str(tmp_path / "p")))
+    s = torch.load(tmp_path / "p" / "ckpt.pt")
+    assert (s["width"], s["skip"], s["step"]) == (6, True, 7)
+    narrow = residual.build(s)
+    narrow.load_state_dict(s["ema"])
+    assert sum(p.numel() for p in narrow.parameters()) < sum(p.numel() for p in wide.parameters())
+    x = torch.randn(1, 3 + 6 * 2 + 4, 41)
+    with torch.no_grad():
+        assert torch.allclose(narrow(x), wide(x), atol=1e-5)

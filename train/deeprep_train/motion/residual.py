@@ -811,8 +811,6 @@ def prune(args):
     state) for `train --resume --out DIR --width W` to fine-tune."""
     s = torch.load(args.ckpt or PORTABLE, map_location="cpu")
     w = args.width
-    if s.get("skip"):
-        raise SystemExit("prune: networks with the full-rate skip are not supported")
     out = {"step": s["step"], **arch(s), "width": w,
            "pruned_from": {"ckpt": args.ckpt or PORTABLE, "width": s["width"], "step": s["step"]}}
     for part in ("net", "ema"):
@@ -820,11 +818,15 @@ def prune(args):
         blocks = sorted({int(k.split(".")[1]) for k in p if k.startswith("blocks.")})
         # residual stream: what writes it (inp, each c2) and reads it (each c1, out)
         score = p["inp.weight"].pow(2).sum((1, 2)) + p["out.weight"].pow(2).sum((0, 2))
+        if "skip.weight" in p:  # the full-rate skip writes the stream too
+            score += p["skip.weight"].pow(2).sum((1, 2))
         for b in blocks:
             score += p[f"blocks.{b}.c2.weight"].pow(2).sum((1, 2)) + p[f"blocks.{b}.c1.weight"].pow(2).sum((0, 2))
         keep = torch.argsort(score, descending=True)[:w].sort().values
         q = {"inp.weight": p["inp.weight"][keep], "inp.bias": p["inp.bias"][keep],
              "out.weight": p["out.weight"][:, keep], "out.bias": p["out.bias"]}
+        if "skip.weight" in p:
+            q["skip.weight"], q["skip.bias"] = p["skip.weight"][keep], p["skip.bias"][keep]
         for b in blocks:
             c1w, c1b = p[f"blocks.{b}.c1.weight"], p[f"blocks.{b}.c1.bias"]
             c2w, c2b = p[f"blocks.{b}.c2.weight"], p[f"blocks.{b}.c2.bias"]
