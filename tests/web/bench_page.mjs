@@ -16,13 +16,21 @@
 // export). After the first call at a length, the residual network's own plan
 // for it is built (`prepare_length_ms`), as the worker does when idle; the
 // warm runs (`total_ms`) use it, the first call ran on the any-length plan.
-// Prints JSON. Usage: node tests/web/bench_page.mjs [--smoke]
+// With `--candidate FILE` (a residual-network ONNX, path from the repository
+// root, run with the bundled manifest), the default pipeline runs with it too,
+// alternately with the bundled network in the same reps (`candidate_total_ms`,
+// `candidate_ran`): a network's speed is judged against the bundled one in one
+// run (train/README.md's bundle rules).
+// Prints JSON. Usage: node tests/web/bench_page.mjs [--smoke] [--candidate FILE]
 import { withBenchPage } from './chromium.mjs';
 
 const smoke = process.argv.includes('--smoke');
+const ci = process.argv.indexOf('--candidate');
+const candidate = ci > 0 ? process.argv[ci + 1] : null;
+if (ci > 0 && !candidate) throw new Error('--candidate needs an ONNX file (a path from the repository root)');
 const sizes = smoke ? [512] : [512, 1024, 2048, 4096];
 await withBenchPage(async (page) => {
-  const rows = await page.evaluate(async ({ sizes, reps }) => {
+  const rows = await page.evaluate(async ({ sizes, reps, candidate }) => {
     // the worker's wasm (web/worker.js startWasm): relaxed SIMD where it validates
     const { hasRelaxedSimd } = await import('./lib/wasm-features.js');
     const wasm = hasRelaxedSimd() ? 'relaxed-simd' : 'simd128';
@@ -48,6 +56,15 @@ await withBenchPage(async (page) => {
       await fetch('../models/onnx/tween_generator.manifest.json').then((r) => r.text()));
     plainResidual.setResidual(await get('../models/onnx/tween_residual.onnx'),
       await fetch('../models/onnx/tween_residual.manifest.json').then((r) => r.text()));
+    let cand = null;
+    if (candidate) {
+      cand = new m.Inbetweener(await get('../models/onnx/tween_generator.onnx'), await get('../models/onnx/tween_path.onnx'),
+        await fetch('../models/onnx/tween_generator.manifest.json').then((r) => r.text()));
+      const r = await fetch(`../${candidate}`);
+      if (!r.ok) throw new Error(`--candidate ${candidate}: HTTP ${r.status}`);
+      cand.setResidual(new Uint8Array(await r.arrayBuffer()),
+        await fetch('../models/onnx/tween_residual.manifest.json').then((r) => r.text()));
+    }
     const poses = (await fetch('../models/examples/poses.json').then((r) => r.json())).poses;
     const out = [];
     for (const n of sizes) {
@@ -88,6 +105,14 @@ await withBenchPage(async (page) => {
       const prepared = withResidual.prepareLength(n);
       const prepareMs = performance.now() - t;
       plainResidual.prepareLength(n);
+      let candRan = null, candBest = null;
+      if (cand) {
+        const c = cand.synthesize(kf, kc, n, { post: true });
+        candRan = c.method;
+        c.free();
+        cand.prepareLength(n);
+        candBest = Infinity;
+      }
       let resBest = Infinity, resNet = null, plainBest = Infinity, bvhMs = Infinity;
       for (let r = 0; r < reps; r++) {
         t = performance.now();
@@ -101,6 +126,11 @@ await withBenchPage(async (page) => {
         t = performance.now();
         plainResidual.synthesize(kf, kc, n, { post: true }).free();
         plainBest = Math.min(plainBest, performance.now() - t);
+        if (cand) {
+          t = performance.now();
+          cand.synthesize(kf, kc, n, { post: true }).free();
+          candBest = Math.min(candBest, performance.now() - t);
+        }
       }
       t = performance.now();
       const slerpResult = model.interpolate(kf, kc, n);
@@ -114,9 +144,11 @@ await withBenchPage(async (page) => {
                  generator_pipeline: { generator_ms: best[0], rcfk_ms: best[1], path_ms: best[2], post_ms: best[3],
                                        total_ms: bestTotal, first_call_ms: first,
                                        any_length_first_call_ms: anyFirst, any_length_total_ms: anyBest },
-                 slerp_lerp_ms_with_bvh_and_fk: slerp });
+                 slerp_lerp_ms_with_bvh_and_fk: slerp,
+                 ...(cand ? { candidate_total_ms: candBest, candidate_ran: candRan } : {}) });
     }
     return out;
-  }, { sizes, reps: smoke ? 1 : 3 });
-  console.log(JSON.stringify({ bench: 'inbetween', target: 'wasm (headless Chromium, SwiftShader, 1 thread)', rows }, null, 1));
+  }, { sizes, reps: smoke ? 1 : 3, candidate });
+  console.log(JSON.stringify({ bench: 'inbetween', target: 'wasm (headless Chromium, SwiftShader, 1 thread)',
+    ...(candidate ? { candidate } : {}), rows }, null, 1));
 });
