@@ -39,32 +39,34 @@ await withBenchPage(async (page) => {
     // a second instance of the glue (the query makes it another module) with the plain build
     const plain = await import('./pkg-core/deeprep.js?simd128');
     await plain.default();
-    const get = (u) => fetch(u).then((r) => r.arrayBuffer()).then((b) => new Uint8Array(b));
-    const model = new m.Inbetweener(await get('../models/onnx/tween_generator.onnx'), await get('../models/onnx/tween_path.onnx'),
-      await fetch('../models/onnx/tween_generator.manifest.json').then((r) => r.text()));
+    const get = async (u) => {
+      const r = await fetch(u);
+      if (!r.ok) throw new Error(`${u}: HTTP ${r.status}`);
+      return new Uint8Array(await r.arrayBuffer());
+    };
+    const text = (u) => fetch(u).then((r) => r.text());
+    // every file once; each Inbetweener copies what it is given
+    const [gen, path, genManifest, residual, residualManifest] = await Promise.all([
+      get('../models/onnx/tween_generator.onnx'), get('../models/onnx/tween_path.onnx'),
+      text('../models/onnx/tween_generator.manifest.json'), get('../models/onnx/tween_residual.onnx'),
+      text('../models/onnx/tween_residual.manifest.json')]);
+    // an Inbetweener of the glue `mod`, with the residual network `res` when given
+    const inbetweener = (mod, res) => {
+      const ib = new mod.Inbetweener(gen, path, genManifest);
+      if (res) ib.setResidual(res, residualManifest);
+      return ib;
+    };
+    const model = inbetweener(m);
     // the same models prepared for any length, as the npm worker runs them
-    const anyLength = new m.Inbetweener(await get('../models/onnx/tween_generator.onnx'), await get('../models/onnx/tween_path.onnx'),
-      await fetch('../models/onnx/tween_generator.manifest.json').then((r) => r.text()));
+    const anyLength = inbetweener(m);
     anyLength.prepareAnyLength();
     // the default for whole-pose keys: the residual network (as the npm worker loads it)
-    const withResidual = new m.Inbetweener(await get('../models/onnx/tween_generator.onnx'), await get('../models/onnx/tween_path.onnx'),
-      await fetch('../models/onnx/tween_generator.manifest.json').then((r) => r.text()));
-    withResidual.setResidual(await get('../models/onnx/tween_residual.onnx'),
-      await fetch('../models/onnx/tween_residual.manifest.json').then((r) => r.text()));
+    const withResidual = inbetweener(m, residual);
     const residualDefault = withResidual.residualIsDefault;
-    const plainResidual = new plain.Inbetweener(await get('../models/onnx/tween_generator.onnx'), await get('../models/onnx/tween_path.onnx'),
-      await fetch('../models/onnx/tween_generator.manifest.json').then((r) => r.text()));
-    plainResidual.setResidual(await get('../models/onnx/tween_residual.onnx'),
-      await fetch('../models/onnx/tween_residual.manifest.json').then((r) => r.text()));
-    let cand = null;
-    if (candidate) {
-      cand = new m.Inbetweener(await get('../models/onnx/tween_generator.onnx'), await get('../models/onnx/tween_path.onnx'),
-        await fetch('../models/onnx/tween_generator.manifest.json').then((r) => r.text()));
-      const r = await fetch(`../${candidate}`);
-      if (!r.ok) throw new Error(`--candidate ${candidate}: HTTP ${r.status}`);
-      cand.setResidual(new Uint8Array(await r.arrayBuffer()),
-        await fetch('../models/onnx/tween_residual.manifest.json').then((r) => r.text()));
-    }
+    const plainResidual = inbetweener(plain, residual);
+    const cand = candidate ? inbetweener(m, await get(`../${candidate}`).catch((e) => {
+      throw new Error(`--candidate ${e.message}`);
+    })) : null;
     const poses = (await fetch('../models/examples/poses.json').then((r) => r.json())).poses;
     const out = [];
     for (const n of sizes) {
