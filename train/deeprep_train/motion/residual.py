@@ -261,6 +261,15 @@ def build(s):
     return ResidualTween(a["K"], a["width"], a["dilations"], a["stride"], a["skip"])
 
 
+def load_ema(path, device="cpu"):
+    """The weights' moving average of a checkpoint (a snapshot, `ckpt.pt` or
+    a portable one) as a network in eval mode."""
+    s = torch.load(path, map_location="cpu")
+    net = build(s)
+    net.load_state_dict({k: v.float() for k, v in s["ema"].items()})
+    return net.to(device).eval()
+
+
 def arch(s):
     """The fields of a checkpoint (or `state`-like dict) that describe its
     network, as `build` reads them: what every saved file carries."""
@@ -354,10 +363,17 @@ def net_input(base_root, base_rot, phase):
     return x.transpose(1, 2)
 
 
-def apply(net, base_root, base_rot, phase, gate):
-    """The network's output motion: root [B,N,3], rotations [B,N,K,3,3]."""
+def residual(net, base_root, base_rot, phase, gate):
+    """The network's gated residual [B, N, 3 + 6K] (zero at the keys)."""
+    return net(net_input(base_root, base_rot, phase)).transpose(1, 2) * gate.unsqueeze(-1)
+
+
+def apply(net, base_root, base_rot, phase, gate, res=None):
+    """The network's output motion: root [B,N,3], rotations [B,N,K,3,3]
+    (`res`: its `residual`, when already computed)."""
     B, N, K = base_rot.shape[:3]
-    res = net(net_input(base_root, base_rot, phase)).transpose(1, 2) * gate.unsqueeze(-1)
+    if res is None:
+        res = residual(net, base_root, base_rot, phase, gate)
     root = base_root + res[..., :3] * SCALE
     r6 = sixd(base_rot).reshape(B, N, K, 6) + res[..., 3:].reshape(B, N, K, 6)
     return root, from_sixd(r6)
@@ -410,19 +426,30 @@ def make_batch(clips, skel, b, n, rng, do_mirror, cross_p=0.0, regular=0.0):
     return st, keysets, torch.tensor(sup)
 
 
-def losses(net, skel, batch, w, sup=None, adv=None, gan_min_gap=0):
+def losses(net, skel, batch, w, sup=None, adv=None, gan_min_gap=0, teacher=None):
     """The training losses. `sup` [B] marks the windows with a ground truth
     (the supervised terms use only those); `adv` (residual_adv.Adversary)
     adds the adversarial term on every window, whose gradient skips the
     frames of intervals shorter than `gan_min_gap` frames (there the
-    supervised terms alone train the output). Returns the terms, their
-    weighted "total", and the output's root-relative positions under "_rel"
-    with the truth's (supervised windows) under "_grel", for the
-    discriminator's update."""
+    supervised terms alone train the output); `teacher` (a trained network,
+    frozen) adds "distill", the L1 distance of the output's positions,
+    rotations (6D) and root to the teacher's, on every window. Returns the terms, their weighted "total", and the
+    output's root-relative positions under "_rel" with the truth's
+    (supervised windows) under "_grel", for the discriminator's update."""
     base_root, base_rot, gt_root, gt_rot, phase, gate, offs = batch
-    root, rot = apply(net, base_root, base_rot, phase, gate)
+    res = residual(net, base_root, base_rot, phase, gate)
+    root, rot = apply(net, base_root, base_rot, phase, gate, res)
     pos = fk(skel, root, rot, offs) / SCALE
     out, private = {}, {}
+    if teacher is not None:
+        # in the motion's terms, not the residual's: the 6D residual's length
+        # along the base rotation's columns is free (Gram-Schmidt drops it),
+        # and trained networks use that freedom (mean |6D residual| ~ 9)
+        with torch.no_grad():
+            t_root, t_rot = apply(teacher, base_root, base_rot, phase, gate)
+            t_pos = fk(skel, t_root, t_rot, offs) / SCALE
+        out["distill"] = ((pos - t_pos).abs().mean() + (sixd(rot) - sixd(t_rot)).abs().mean()
+                          + ((root - t_root) / SCALE).abs().mean())
     if adv is not None:
         rel = adversarial_view(pos - pos[:, :, :1], phase, gan_min_gap)
         gan = adv.g_loss(rel)
@@ -561,7 +588,16 @@ def train(args):
     print(f"device: {dev}", flush=True)
     print(f"parameters: {sum(p.numel() for p in net.parameters()):,}", flush=True)
     w = {"pos": 1.0, "rot": 0.5, "root": 1.0, "vel": 1.0, "speed": args.speed_weight, "foot": args.foot_weight,
-         "l2p": args.l2p_weight, "spectral": args.spectral_weight, "gan": args.gan_weight}
+         "l2p": args.l2p_weight, "spectral": args.spectral_weight, "gan": args.gan_weight,
+         "distill": args.distill_weight}
+    teacher = None
+    if args.teacher:
+        if args.distill_weight <= 0:
+            raise SystemExit("--teacher needs --distill-weight > 0")
+        teacher = load_ema(args.teacher, dev)
+        for p in teacher.parameters():
+            p.requires_grad_(False)
+        print(f"teacher {args.teacher}: {teacher.arch()}", flush=True)
     skel.inv_sd = torch.from_numpy(1.0 / l2p_sd()).float().to(dev)
     # the adversarial stage (residual_adv): a discriminator, carried in the checkpoint
     adv = Adversary(len(skel.parents), args.lr_d, dev) if args.gan_weight > 0 else None
@@ -594,7 +630,7 @@ def train(args):
     while time.time() - t0 < args.minutes * 60:
         batch, _, sup = draw()
         batch = [x.to(dev, non_blocking=True) for x in batch]
-        out = losses(net, skel, batch, w, sup, adv, args.gan_min_gap)
+        out = losses(net, skel, batch, w, sup, adv, args.gan_min_gap, teacher)
         opt.zero_grad()
         out["total"].backward()
         torch.nn.utils.clip_grad_norm_(net.parameters(), 1.0)
@@ -643,12 +679,7 @@ def evaluate(args):
     # weigh about 7x the horizontal coordinates. The canonical frame turns
     # x/z about the vertical, which the nearly equal x and z spreads ignore.
     inv_sd = torch.from_numpy(1.0 / l2p_sd()).float()
-    net = None
-    if args.ckpt:
-        s = torch.load(args.ckpt)
-        net = build(s)
-        net.load_state_dict({k: v.float() for k, v in s["ema"].items()})
-        net.eval()
+    net = load_ema(args.ckpt) if args.ckpt else None
     res = {}
     for g in args.gaps:
         n = 2 * g + 1
@@ -915,6 +946,11 @@ def main():
                          "default: the resumed checkpoint's, else 1")
     ap.add_argument("--recipe", help="export: how the checkpoint was trained, one sentence for the manifest and the "
                                      "README's models table (checkpoints do not record their training flags)")
+    ap.add_argument("--teacher", help="train: a trained checkpoint whose moving average the network learns to "
+                    "match (knowledge distillation, e.g. a wider network into a pruned one)")
+    ap.add_argument("--distill-weight", type=float, default=0.0,
+                    help="train: weight of the L1 distance to --teacher's output (positions, 6D rotations "
+                    "and root, as the supervised terms measure them), on every window")
     ap.add_argument("--resume", action="store_true")
     ap.add_argument("--portable", default=PORTABLE,
                     help="train --resume without a checkpoint in --out starts from this float16 file "
