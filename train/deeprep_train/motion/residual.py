@@ -27,6 +27,7 @@ average in float16, no optimizer state; committed, so a new machine resumes
 with `train --resume`, which falls back to it when train/cache is empty).
 """
 import argparse
+import copy
 import json
 import math
 import os
@@ -566,8 +567,7 @@ def train(args):
     # --skip adds the full-rate skip to a resumed network; a checkpoint with one keeps it
     args.skip = bool(args.skip or (s is not None and s.get("skip", False)))
     net = ResidualTween(skel.K, args.width, args.dilations, args.stride, args.skip)
-    ema = ResidualTween(skel.K, args.width, args.dilations, args.stride, args.skip)
-    ema.load_state_dict(net.state_dict())
+    ema = copy.deepcopy(net)
     step, opt_state = 0, None
     os.makedirs(args.out, exist_ok=True)
     if s is not None:
