@@ -252,6 +252,29 @@ impl Model {
 
     /// Runs the model on f32 inputs; returns every output as f32.
     pub fn run(&self, inputs: &[TensorF32]) -> Result<Vec<TensorF32>> {
+        let (out, _) = self.run_plan(inputs, None)?;
+        out.iter()
+            .map(|v| {
+                let t = v.cast_to::<f32>().map_err(model_err)?;
+                let view = t.to_plain_array_view::<f32>().map_err(model_err)?;
+                Ok(TensorF32 {
+                    shape: view.shape().to_vec(),
+                    data: view.iter().copied().collect(),
+                })
+            })
+            .collect()
+    }
+
+    /// What [`Model::run`] and [`Model::profile`] share: the inputs checked
+    /// (count, finite values), then what `plan.run` does (tract's own `eval`
+    /// on each node in plan order), with the vector state cleared after each
+    /// node (see `clear_upper_vector_state`; a no-op off x86-64) and, with a
+    /// `clock` (milliseconds), each node timed.
+    fn run_plan(
+        &self,
+        inputs: &[TensorF32],
+        clock: Option<&dyn Fn() -> f64>,
+    ) -> Result<(TVec<TValue>, Vec<NodeTime>)> {
         if inputs.len() != self.typed.inputs.len() {
             return Err(Error::Shape {
                 what: "model inputs".into(),
@@ -263,28 +286,25 @@ impl Model {
             crate::error::check_finite(&format!("model input {i}"), &t.data)?;
         }
         let (plan, tv) = self.plan_and_values(inputs)?;
-        // what `plan.run` does (tract's own `eval` on each node in plan
-        // order), with the vector state cleared after each node (see
-        // `clear_upper_vector_state`; a no-op off x86-64)
+        let mut times = Vec::new();
         let out = tract_onnx::tract_core::plan::SimpleState::new(&plan)
             .and_then(|mut state| {
                 state.run_plan_with_eval(tv, |ctx, op_state, node, input| {
+                    let t0 = clock.map(|c| c());
                     let r = tract_onnx::tract_core::plan::eval(ctx, op_state, node, input);
                     clear_upper_vector_state();
+                    if let (Some(c), Some(t0)) = (clock, t0) {
+                        times.push(NodeTime {
+                            node: node.name.clone(),
+                            op: node.op().name().to_string(),
+                            ms: c() - t0,
+                        });
+                    }
                     r
                 })
             })
             .map_err(model_err)?;
-        out.iter()
-            .map(|v| {
-                let t = v.cast_to::<f32>().map_err(model_err)?;
-                let view = t.to_plain_array_view::<f32>().map_err(model_err)?;
-                Ok(TensorF32 {
-                    shape: view.shape().to_vec(),
-                    data: view.iter().copied().collect(),
-                })
-            })
-            .collect()
+        Ok((out, times))
     }
 
     /// The plan for `inputs`' shapes and the inputs as tract values.
@@ -310,23 +330,7 @@ impl Model {
     /// `run_plan_with_eval` (what tract's profiler does), so the times add up
     /// to about one [`Model::run`].
     pub fn profile(&self, inputs: &[TensorF32], clock: &dyn Fn() -> f64) -> Result<Vec<NodeTime>> {
-        let (plan, tv) = self.plan_and_values(inputs)?;
-        let mut state = tract_onnx::tract_core::plan::SimpleState::new(&plan).map_err(model_err)?;
-        let mut times = Vec::new();
-        state
-            .run_plan_with_eval(tv, |ctx, op_state, node, input| {
-                let t0 = clock();
-                let r = tract_onnx::tract_core::plan::eval(ctx, op_state, node, input);
-                clear_upper_vector_state();
-                times.push(NodeTime {
-                    node: node.name.clone(),
-                    op: node.op().name().to_string(),
-                    ms: clock() - t0,
-                });
-                r
-            })
-            .map_err(model_err)?;
-        Ok(times)
+        self.run_plan(inputs, Some(clock)).map(|(_, times)| times)
     }
 
     /// Checks the request's shapes against the inputs' (ranks, fixed
@@ -659,6 +663,42 @@ mod profile_tests {
         );
         assert!((ops[0].share - 5.0 / 6.0).abs() < 1e-12);
         assert!(per_op(&[]).is_empty());
+    }
+
+    #[test]
+    fn profile_times_every_node_of_the_plan() {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../models/onnx/tween_path.onnx");
+        let bytes = match std::fs::read(&path) {
+            Ok(b) => b,
+            Err(_) => return eprintln!("SKIP: models/onnx/tween_path.onnx missing"),
+        };
+        let m = Model::from_onnx_bytes(&bytes).unwrap();
+        let v: Vec<f32> = (0..171 * 32).map(|i| (i as f32 * 0.37).sin()).collect();
+        let x = [TensorF32::new(v, vec![1, 171, 32]).unwrap()];
+        let start = std::time::Instant::now();
+        let clock = || start.elapsed().as_secs_f64() * 1e3;
+        let times = m.profile(&x, &clock).unwrap();
+        let plan = m.plan_for(&[vec![1, 171, 32]]).unwrap();
+        let nodes = &plan.model().nodes;
+        for t in &times {
+            assert!(nodes.iter().any(|n| n.name == t.node), "{t:?}");
+            assert!(t.ms >= 0.0 && t.ms.is_finite(), "{t:?}");
+        }
+        for &ix in plan.order_without_consts() {
+            assert!(
+                times.iter().any(|t| t.node == nodes[ix].name),
+                "{} not timed",
+                nodes[ix].name
+            );
+        }
+        // the same checks as `run`
+        assert!(m.profile(&[], &clock).is_err(), "input count");
+        let mut bad = x[0].data.clone();
+        bad[5] = f32::NAN;
+        let bad = [TensorF32::new(bad, vec![1, 171, 32]).unwrap()];
+        let e = m.profile(&bad, &clock).unwrap_err().to_string();
+        assert!(e.contains("model input 0"), "{e}");
     }
 }
 
