@@ -17,6 +17,10 @@ use crate::runtime::{Model, TensorF32};
 use crate::skeleton::Bvh;
 use serde::Deserialize;
 
+/// Frames per unit of the network's phase inputs "frames since the previous
+/// key" and "to the next" (one second at 60 fps), as `residual.py` trains it.
+const PHASE_FRAMES: f64 = 60.0;
+
 #[derive(Deserialize)]
 struct Manifest {
     kind: String,
@@ -266,8 +270,8 @@ impl ResidualModel {
             gate[t] = g;
             let ph = [
                 (dp / span).clamp(0.0, 1.0),
-                dp.max(0.0) / 60.0,
-                dn.max(0.0) / 60.0,
+                dp.max(0.0) / PHASE_FRAMES,
+                dn.max(0.0) / PHASE_FRAMES,
                 g,
             ];
             for (q, v) in ph.iter().enumerate() {

@@ -50,6 +50,9 @@ OUT = os.path.join(CACHE, "resid")
 PORTABLE = os.path.join(ROOT, "train", "checkpoints", "tween_resid.pt")
 SCALE = 100.0
 GATE_FRAMES = 5.0
+# frames per unit of the phase channels "frames since the previous key" and
+# "to the next" (one second at 60 fps); crate/src/motion/residual.rs the same
+PHASE_FRAMES = 60
 
 
 # ---------------------------------------------------------------- data
@@ -217,7 +220,7 @@ def features(root, quat, keys):
     dp, dn = (torch.arange(n) - a).float(), (b - torch.arange(n)).float()
     d = torch.minimum(dp, dn)
     gate = 1 - torch.exp(-d / GATE_FRAMES)
-    phase = torch.stack([s, dp / 60, dn / 60, gate], -1)
+    phase = torch.stack([s, dp / PHASE_FRAMES, dn / PHASE_FRAMES, gate], -1)
     return base_root, base_rot, gt_root, gt_rot, phase, gate
 
 
@@ -475,7 +478,7 @@ def adversarial_view(rel, phase, min_gap):
     interval's length); unchanged when `min_gap` is 0."""
     if min_gap <= 0:
         return rel
-    short = ((phase[..., 1] + phase[..., 2]) * 60 < min_gap - 0.5)[..., None, None]
+    short = ((phase[..., 1] + phase[..., 2]) * PHASE_FRAMES < min_gap - 0.5)[..., None, None]
     return torch.where(short, rel.detach(), rel)
 
 
