@@ -628,6 +628,21 @@ fn fold_constant_matmuls(g: &mut tract_onnx::pb::GraphProto) -> Result<usize> {
     Ok(folded)
 }
 
+/// The bundled path predictor (input [1, 171, frames]) for the tests that
+/// run a real model; `None`, with a SKIP line, where models/ is absent.
+#[cfg(test)]
+fn bundled_tween_path() -> Option<Model> {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../models/onnx/tween_path.onnx");
+    match std::fs::read(&path) {
+        Ok(bytes) => Some(Model::from_onnx_bytes(&bytes).unwrap()),
+        Err(_) => {
+            eprintln!("SKIP: models/onnx/tween_path.onnx missing");
+            None
+        }
+    }
+}
+
 #[cfg(test)]
 mod profile_tests {
     use super::*;
@@ -667,13 +682,9 @@ mod profile_tests {
 
     #[test]
     fn profile_times_every_node_of_the_plan() {
-        let path =
-            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../models/onnx/tween_path.onnx");
-        let bytes = match std::fs::read(&path) {
-            Ok(b) => b,
-            Err(_) => return eprintln!("SKIP: models/onnx/tween_path.onnx missing"),
+        let Some(m) = bundled_tween_path() else {
+            return;
         };
-        let m = Model::from_onnx_bytes(&bytes).unwrap();
         let v: Vec<f32> = (0..171 * 32).map(|i| (i as f32 * 0.37).sin()).collect();
         let x = [TensorF32::new(v, vec![1, 171, 32]).unwrap()];
         let start = std::time::Instant::now();
@@ -767,13 +778,9 @@ mod half_tests {
 
     #[test]
     fn shape_plans_serve_their_shape_and_the_least_recently_used_goes() {
-        let path =
-            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../models/onnx/tween_path.onnx");
-        let bytes = match std::fs::read(&path) {
-            Ok(b) => b,
-            Err(_) => return eprintln!("SKIP: models/onnx/tween_path.onnx missing"),
+        let Some(m) = bundled_tween_path() else {
+            return;
         };
-        let m = Model::from_onnx_bytes(&bytes).unwrap();
         assert!(m.prepare_any_shape().unwrap());
         let shape = |n: usize| vec![vec![1, 171, n]];
         let x = |n: usize| {
