@@ -367,17 +367,10 @@ def net_input(base_root, base_rot, phase):
     return x.transpose(1, 2)
 
 
-def residual(net, base_root, base_rot, phase, gate):
-    """The network's gated residual [B, N, 3 + 6K] (zero at the keys)."""
-    return net(net_input(base_root, base_rot, phase)).transpose(1, 2) * gate.unsqueeze(-1)
-
-
-def apply(net, base_root, base_rot, phase, gate, res=None):
-    """The network's output motion: root [B,N,3], rotations [B,N,K,3,3]
-    (`res`: its `residual`, when already computed)."""
+def apply(net, base_root, base_rot, phase, gate):
+    """The network's output motion: root [B,N,3], rotations [B,N,K,3,3]."""
     B, N, K = base_rot.shape[:3]
-    if res is None:
-        res = residual(net, base_root, base_rot, phase, gate)
+    res = net(net_input(base_root, base_rot, phase)).transpose(1, 2) * gate.unsqueeze(-1)
     root = base_root + res[..., :3] * SCALE
     r6 = sixd(base_rot).reshape(B, N, K, 6) + res[..., 3:].reshape(B, N, K, 6)
     return root, from_sixd(r6)
@@ -436,13 +429,13 @@ def losses(net, skel, batch, w, sup=None, adv=None, gan_min_gap=0, teacher=None)
     adds the adversarial term on every window, whose gradient skips the
     frames of intervals shorter than `gan_min_gap` frames (there the
     supervised terms alone train the output); `teacher` (a trained network,
-    frozen) adds "distill", the L1 distance of the output's positions,
-    rotations (6D) and root to the teacher's, on every window. Returns the terms, their weighted "total", and the
-    output's root-relative positions under "_rel" with the truth's
-    (supervised windows) under "_grel", for the discriminator's update."""
+    frozen) adds "distill" on every window: the supervised "pos", "rot" and
+    "root" terms with the teacher's output as the truth. Returns the terms,
+    their weighted "total", and the output's root-relative positions under
+    "_rel" with the truth's (supervised windows) under "_grel", for the
+    discriminator's update."""
     base_root, base_rot, gt_root, gt_rot, phase, gate, offs = batch
-    res = residual(net, base_root, base_rot, phase, gate)
-    root, rot = apply(net, base_root, base_rot, phase, gate, res)
+    root, rot = apply(net, base_root, base_rot, phase, gate)
     pos = fk(skel, root, rot, offs) / SCALE
     out, private = {}, {}
     if teacher is not None:
@@ -452,8 +445,8 @@ def losses(net, skel, batch, w, sup=None, adv=None, gan_min_gap=0, teacher=None)
         with torch.no_grad():
             t_root, t_rot = apply(teacher, base_root, base_rot, phase, gate)
             t_pos = fk(skel, t_root, t_rot, offs) / SCALE
-        out["distill"] = ((pos - t_pos).abs().mean() + (sixd(rot) - sixd(t_rot)).abs().mean()
-                          + ((root - t_root) / SCALE).abs().mean())
+        d = supervised(skel, root, rot, pos, t_root, t_rot, t_pos, {})
+        out["distill"] = d["pos"] + d["rot"] + d["root"]
     if adv is not None:
         rel = adversarial_view(pos - pos[:, :, :1], phase, gan_min_gap)
         gan = adv.g_loss(rel)
@@ -597,9 +590,7 @@ def train(args):
     if args.teacher:
         if args.distill_weight <= 0:
             raise SystemExit("--teacher needs --distill-weight > 0")
-        teacher = load_ema(args.teacher, dev)
-        for p in teacher.parameters():
-            p.requires_grad_(False)
+        teacher = load_ema(args.teacher, dev)  # run under no_grad in `losses`
         print(f"teacher {args.teacher}: {teacher.arch()}", flush=True)
     skel.inv_sd = torch.from_numpy(1.0 / l2p_sd()).float().to(dev)
     # the adversarial stage (residual_adv): a discriminator, carried in the checkpoint
