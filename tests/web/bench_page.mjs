@@ -39,12 +39,13 @@ await withBenchPage(async (page) => {
     // a second instance of the glue (the query makes it another module) with the plain build
     const plain = await import('./pkg-core/deeprep.js?simd128');
     await plain.default();
-    const get = async (u) => {
+    const fetchOk = async (u) => {
       const r = await fetch(u);
       if (!r.ok) throw new Error(`${u}: HTTP ${r.status}`);
-      return new Uint8Array(await r.arrayBuffer());
+      return r;
     };
-    const text = (u) => fetch(u).then((r) => r.text());
+    const get = async (u) => new Uint8Array(await (await fetchOk(u)).arrayBuffer());
+    const text = async (u) => (await fetchOk(u)).text();
     // every file once; each Inbetweener copies what it is given
     const [gen, path, genManifest, residual, residualManifest] = await Promise.all([
       get('../models/onnx/tween_generator.onnx'), get('../models/onnx/tween_path.onnx'),
