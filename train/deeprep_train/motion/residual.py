@@ -430,7 +430,8 @@ def losses(net, skel, batch, w, sup=None, adv=None, gan_min_gap=0, teacher=None)
     frames of intervals shorter than `gan_min_gap` frames (there the
     supervised terms alone train the output); `teacher` (a trained network,
     frozen) adds "distill" on every window: the supervised "pos", "rot" and
-    "root" terms with the teacher's output as the truth. Returns the terms,
+    "root" terms with the teacher's output as the truth, and with a
+    "distill_speed" weight its "speed" term the same way. Returns the terms,
     their weighted "total", and the output's root-relative positions under
     "_rel" with the truth's (supervised windows) under "_grel", for the
     discriminator's update."""
@@ -445,8 +446,13 @@ def losses(net, skel, batch, w, sup=None, adv=None, gan_min_gap=0, teacher=None)
         with torch.no_grad():
             t_root, t_rot = apply(teacher, base_root, base_rot, phase, gate)
             t_pos = fk(skel, t_root, t_rot, offs) / SCALE
-        d = supervised(skel, root, rot, pos, t_root, t_rot, t_pos, {})
+        d = supervised(skel, root, rot, pos, t_root, t_rot, t_pos, {"speed": w.get("distill_speed")})
         out["distill"] = d["pos"] + d["rot"] + d["root"]
+        if w.get("distill_speed"):
+            # the teacher's joint speeds on every window, cross-clip ones too:
+            # an L1 on positions to a target the narrower network cannot match
+            # in detail favours smoother (slower) motion
+            out["distill_speed"] = d["speed"]
     if adv is not None:
         rel = adversarial_view(pos - pos[:, :, :1], phase, gan_min_gap)
         gan = adv.g_loss(rel)
@@ -585,8 +591,10 @@ def train(args):
     print(f"parameters: {sum(p.numel() for p in net.parameters()):,}", flush=True)
     w = {"pos": 1.0, "rot": 0.5, "root": 1.0, "vel": 1.0, "speed": args.speed_weight, "foot": args.foot_weight,
          "l2p": args.l2p_weight, "spectral": args.spectral_weight, "gan": args.gan_weight,
-         "distill": args.distill_weight}
+         "distill": args.distill_weight, "distill_speed": args.distill_speed_weight}
     teacher = None
+    if args.distill_speed_weight > 0 and not args.teacher:
+        raise SystemExit("--distill-speed-weight needs --teacher")
     if args.teacher:
         if args.distill_weight <= 0:
             raise SystemExit("--teacher needs --distill-weight > 0")
@@ -945,6 +953,9 @@ def main():
     ap.add_argument("--distill-weight", type=float, default=0.0,
                     help="train: weight of the L1 distance to --teacher's output (positions, 6D rotations "
                     "and root, as the supervised terms measure them), on every window")
+    ap.add_argument("--distill-speed-weight", type=float, default=0.0,
+                    help="train: weight of the L1 distance of per-joint speeds (the supervised speed term) to "
+                    "--teacher's, on every window")
     ap.add_argument("--resume", action="store_true")
     ap.add_argument("--portable", default=PORTABLE,
                     help="train --resume without a checkpoint in --out starts from this float16 file "
