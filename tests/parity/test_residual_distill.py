@@ -20,7 +20,7 @@ def residual(train_import):
     return train_import("deeprep_train.motion.residual")
 
 
-def setup(residual):
+def windows(residual):
     """A four-joint skeleton, a small network with a nonzero output and a
     batch of two 32-frame windows whose gate is open between the ends."""
     import numpy as np
@@ -43,7 +43,7 @@ def setup(residual):
 
 
 def test_a_teacher_identical_to_the_network_costs_nothing(residual):
-    skel, net, batch = setup(residual)
+    skel, net, batch = windows(residual)
     w = {"distill": 1.0, "distill_speed": 1.0}
     sup = torch.zeros(2, dtype=torch.bool)  # no ground truth: only the teacher's terms
     with torch.no_grad():
@@ -53,7 +53,7 @@ def test_a_teacher_identical_to_the_network_costs_nothing(residual):
 
 
 def test_another_teacher_pulls_the_network_by_its_speeds_only_with_a_weight(residual):
-    skel, net, batch = setup(residual)
+    skel, net, batch = windows(residual)
     teacher = copy.deepcopy(net)
     with torch.no_grad():
         teacher.out.weight.mul_(3)  # the same direction, larger: faster motion
