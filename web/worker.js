@@ -19,7 +19,7 @@
 //      hit a RuntimeError (a deeprep bug); the client then replaces this worker.
 // the package without the GPU code (web/pkg-core): a smaller download
 import init, { Inbetweener, IkSolver, BvhClip } from './pkg-core/deeprep.js';
-import { hasRelaxedSimd } from './lib/wasm-features.js';
+import { hasRelaxedSimd, WARM_UP_ROUNDS } from './lib/wasm-features.js';
 
 /** Starts the wasm: the relaxed-SIMD build (issue 23: tract's matrix kernel
  *  fuses its multiply-adds, about 15% off the in-betweening network) where the
@@ -138,24 +138,21 @@ async function handleInit(msg) {
     }
     // One plan for any length now, so the first synthesis of each length
     // does not wait for tract to optimize one (runtime::Model::prepare_any_shape),
-    // and one small synthesis of the rest pose, so that the user's first is
-    // not the one that brings the wasm code up to speed (it took 2x a warm one).
+    // then the code a request runs, so that the user's first is not the one
+    // that brings the wasm code up to speed (Inbetweener.warmUp; more rounds
+    // once ready, while no request comes: warmWhenIdle).
     postMessage({ type: 'progress', id: msg.id, stage: 'preparing models', fraction: 1 });
     model.prepareAnyLength();
     postMessage({ type: 'progress', id: msg.id, stage: 'warming up', fraction: 1 });
+    model.warmUp(WARM_UP_ROUNDS.beforeReady, true);
     const skel = BvhClip.parse(model.skeletonBvh);
-    const rest = new Float32Array(2 * skel.channelCount);
-    model.synthesize(new Uint32Array([0, 63]), rest, 64).free();
-    // the generator too, when whole poses go to the residual network
-    if (model.residualIsDefault) {
-      model.synthesizeRequest('{"frames": 64, "keys": [{"frame": 0, "root": [0, 56, 0]}, {"frame": 63, "root": [0, 56, 1]}]}').free();
-    }
     skeletonNames = skel.jointNames;
     const skeleton = { names: skeletonNames, parents: Array.from(skel.parents), offsets: Array.from(skel.offsets) };
     skel.free();
     postMessage({ type: 'result', id: msg.id, skeletonBvh: model.skeletonBvh, skeleton, hasModel: true,
                   hasResidual: model.hasResidual || residualManifest !== null,
                   defaultVariation: model.defaultVariation, wasm: wasmBuild });
+    warmWhenIdle(WARM_UP_ROUNDS.whenIdle);
   } catch (e) {
     postMessage({ type: 'result', id: msg.id, skeletonBvh: null, hasModel: false, modelError: String(e.message || e), wasm: wasmBuild });
   }
@@ -212,7 +209,8 @@ function postResult(id, method, r, withBvh = true) {
 }
 
 /** After a residual synthesis of `frames` frames, once the worker is idle:
- *  the residual network's own plan for that length (Inbetweener.prepareLength;
+ *  the residual network's own plan for that length, built and run once
+ *  (Inbetweener.prepareLength;
  *  11-18% faster than the any-length plan the first request ran on at
  *  2,048-4,096 frames, little at 1,024; 100-360 ms to build), so the next
  *  requests of that length (an animator adjusting keys) run faster. A request
@@ -224,6 +222,28 @@ function prepareWhenIdle(frames) {
     } catch (e) {
       console.warn(`deeprep: the plan for ${frames} frames was not built (${e.message || e})`);
     }
+  }, 0);
+}
+
+/** Requests received since loading; an idle warm-up round stops once one comes. */
+let requestCount = 0;
+
+/** After loading, `rounds` more warm-up rounds (Inbetweener.warmUp, ~30 ms
+ *  each once warm), one task each, while no request has come: a request that
+ *  comes meanwhile waits for one round at most, and ends them (it runs the
+ *  code itself). */
+function warmWhenIdle(rounds) {
+  if (rounds <= 0) return;
+  const seen = requestCount;
+  setTimeout(() => {
+    if (requestCount !== seen || !model) return;
+    try {
+      model.warmUp(1, false);
+    } catch (e) {
+      console.warn(`deeprep: warm-up stopped (${e.message || e})`);
+      return;
+    }
+    warmWhenIdle(rounds - 1);
   }, 0);
 }
 
@@ -264,6 +284,7 @@ function handle(msg) {
 
 onmessage = async (e) => {
   const msg = e.data;
+  if (msg.type !== 'init') requestCount++;
   try {
     if (msg.type === 'synthesize' && msg.method === 'residual' && model && !model.hasResidual && residualManifest) {
       postMessage({ type: 'progress', id: msg.id, stage: 'loading the residual network', fraction: 0.05 });

@@ -378,13 +378,27 @@ impl Model {
     /// and 4,096 frames in headless Chromium (0-13% at 1,024, where part of
     /// it stays eager), but the plan costs 100-360 ms
     /// to build there: a worker builds it when idle, after a request of that
-    /// length. Returns whether a plan was built (false when it is kept
-    /// already). At most [`MAX_SHAPE_PLANS`] are kept.
+    /// length. A new plan then runs once on zeros: in wasm the kernels it
+    /// picks for these shapes may not have run yet, and V8 runs a function's
+    /// first calls on its baseline compiler's code, so the first real
+    /// request on a plan took up to 2x the next ones (1,024 frames in headless
+    /// Chromium: 116-154 ms against 55-79). Returns whether a plan was built
+    /// (false when it is kept already). At most [`MAX_SHAPE_PLANS`] are kept.
     pub fn prepare_shape(&self, shapes: &[Vec<usize>]) -> Result<bool> {
         if self.cached_plan(shapes)?.is_some() {
             return Ok(false);
         }
-        self.build_plan(shapes).map(|_| true)
+        self.build_plan(shapes)?;
+        let zeros = shapes
+            .iter()
+            .map(|s| {
+                let n = s.iter().try_fold(1usize, |n, &d| n.checked_mul(d));
+                let n = n.ok_or_else(|| Error::Invalid(format!("input shape {s:?} overflows")))?;
+                TensorF32::new(vec![0.0; n], s.clone())
+            })
+            .collect::<Result<Vec<_>>>()?;
+        self.run(&zeros)?;
+        Ok(true)
     }
 
     /// The kept plan of these shapes, marked most recently used.

@@ -479,6 +479,65 @@ const HAIR_FEATURES: &[u8] = include_bytes!("../../models/onnx/hair_features.onn
 const HAIR_STRANDS: &[u8] = include_bytes!("../../models/onnx/hair_strands.onnx");
 const HAIR_MANIFEST: &str = include_str!("../../models/onnx/hair_features.manifest.json");
 
+const TWEEN_RESIDUAL: &[u8] = include_bytes!("../../models/onnx/tween_residual.onnx");
+const TWEEN_RESIDUAL_MANIFEST: &str =
+    include_str!("../../models/onnx/tween_residual.manifest.json");
+
+/// Issue 23: `warmUp` (what the npm worker runs before it reports ready and
+/// when idle) and `prepareLength` (a length's own plan, built and run once)
+/// leave no trace in results: the same keys give the same motion, to the
+/// bit, by the residual network and by the generator, as in an Inbetweener
+/// that ran neither.
+#[wasm_bindgen_test]
+fn warming_up_and_preparing_a_length_leave_results_unchanged() {
+    use deeprep::wasm::{BvhClip, Inbetweener};
+    let make = || {
+        let mut m = Inbetweener::new(TWEEN_GENERATOR, TWEEN_PATH, TWEEN_MANIFEST).unwrap();
+        m.set_residual(TWEEN_RESIDUAL, TWEEN_RESIDUAL_MANIFEST)
+            .unwrap();
+        m
+    };
+    let tpl = BvhClip::parse(&make().skeleton_bvh()).unwrap();
+    let c = tpl.channel_count();
+    // three made-up whole poses 50 frames apart, walking forward
+    let keys: Vec<f32> = (0..3)
+        .flat_map(|k| {
+            (0..c).map(move |i| match i {
+                1 => 90.0,
+                2 => 60.0 * k as f32,
+                0 => 0.0,
+                i => 20.0 * (0.3 * i as f32 + k as f32).sin(),
+            })
+        })
+        .collect();
+    let run = |m: &Inbetweener, dna: bool| {
+        let opts =
+            dna.then(|| synth_options(&[("dna", js_sys::Float32Array::from(&keys[..c]).into())]));
+        let r = m.synthesize(&[0, 50, 100], &keys, 120, opts).unwrap();
+        (r.method(), r.positions())
+    };
+    let cold = make();
+    let (cold_res, cold_gen) = (run(&cold, false), run(&cold, true));
+    assert_eq!(cold_res.0, "residual");
+    assert_eq!(cold_gen.0, "generator", "Motion DNA runs the generator");
+    let warm = make();
+    warm.warm_up(2, true).unwrap();
+    assert_eq!(run(&warm, false), cold_res, "residual network after warmUp");
+    assert_eq!(run(&warm, true), cold_gen, "generator after warmUp");
+    assert!(warm.prepare_length(120).unwrap(), "a new plan");
+    assert!(!warm.prepare_length(120).unwrap(), "kept");
+    let own = run(&warm, false);
+    assert_eq!(own.0, "residual");
+    let gap = own
+        .1
+        .iter()
+        .zip(&cold_res.1)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0f32, f32::max);
+    // the own plan's kernels may sum in another order than the any-length plan's
+    assert!(gap < 1e-3, "the length's own plan moved a joint by {gap}");
+}
+
 /// An `Inbetweener.synthesize` options object with these fields.
 fn synth_options(fields: &[(&str, JsValue)]) -> deeprep::wasm::SynthesizeOptions {
     let o = js_sys::Object::new();

@@ -13,8 +13,12 @@
 // the default pipeline with the plain SIMD build, run alternately with it in
 // the same page. `bvh_ms` is the first read of the default result's BVH text
 // (written on demand since issue 23; the sketch page asks for it only to
-// export). After the first call at a length, the residual network's own plan
-// for it is built (`prepare_length_ms`), as the worker does when idle; the
+// export). Before the first length, the default pipeline's Inbetweener warms
+// up as the worker's does after loading and then when idle (Inbetweener.warmUp,
+// WARM_UP_ROUNDS, `warm_up_ms`), so `first_call_ms` is a worker's first
+// request at that length (one that comes after the idle rounds). After the
+// first call at a length, the residual network's own plan for it is built
+// and run once (`prepare_length_ms`), as the worker does when idle; the
 // warm runs (`total_ms`) use it, the first call ran on the any-length plan.
 // With `--candidate FILE` (a residual-network ONNX, path from the repository
 // root, run with the bundled manifest), the default pipeline runs with it too,
@@ -30,9 +34,9 @@ const candidate = ci > 0 ? process.argv[ci + 1] : null;
 if (ci > 0 && !candidate) throw new Error('--candidate needs an ONNX file (a path from the repository root)');
 const sizes = smoke ? [512] : [512, 1024, 2048, 4096];
 await withBenchPage(async (page) => {
-  const rows = await page.evaluate(async ({ sizes, reps, candidate }) => {
+  const result = await page.evaluate(async ({ sizes, reps, candidate }) => {
     // the worker's wasm (web/worker.js startWasm): relaxed SIMD where it validates
-    const { hasRelaxedSimd } = await import('./lib/wasm-features.js');
+    const { hasRelaxedSimd, WARM_UP_ROUNDS } = await import('./lib/wasm-features.js');
     const wasm = hasRelaxedSimd() ? 'relaxed-simd' : 'simd128';
     const m = await import('./pkg-core/deeprep.js');
     await m.default(wasm === 'relaxed-simd' ? { module_or_path: './pkg-core/deeprep_relaxed_bg.wasm' } : undefined);
@@ -69,6 +73,11 @@ await withBenchPage(async (page) => {
       throw new Error(`--candidate ${e.message}`);
     })) : null;
     const poses = (await fetch('../models/examples/poses.json').then((r) => r.json())).poses;
+    const t0 = performance.now();
+    // the worker's warm-up: before it reports ready, then when idle
+    withResidual.warmUp(WARM_UP_ROUNDS.beforeReady, true);
+    withResidual.warmUp(WARM_UP_ROUNDS.whenIdle, false);
+    const warmUpMs = performance.now() - t0;
     const out = [];
     for (const n of sizes) {
       const frames = [], chans = [];
@@ -150,8 +159,8 @@ await withBenchPage(async (page) => {
                  slerp_lerp_ms_with_bvh_and_fk: slerp,
                  ...(cand ? { candidate_total_ms: candBest, candidate_ran: candRan } : {}) });
     }
-    return out;
+    return { rows: out, warmUpMs };
   }, { sizes, reps: smoke ? 1 : 3, candidate });
   console.log(JSON.stringify({ bench: 'inbetween', target: 'wasm (headless Chromium, SwiftShader, 1 thread)',
-    ...(candidate ? { candidate } : {}), rows }, null, 1));
+    ...(candidate ? { candidate } : {}), warm_up_ms: result.warmUpMs, rows: result.rows }, null, 1));
 });

@@ -12,3 +12,11 @@ const RELAXED_SIMD_PROBE = new Uint8Array([
 export function hasRelaxedSimd() {
   try { return WebAssembly.validate(RELAXED_SIMD_PROBE); } catch { return false; }
 }
+
+/** Rounds of Inbetweener.warmUp (512-frame syntheses of made-up keys) the
+ *  worker runs before it reports ready and then, one at a time, while no
+ *  request has come: V8 runs a wasm function's first calls on baseline code,
+ *  so after the 64-frame synthesis that was the warm-up before them a page's
+ *  first 512-frame synthesis took 1.5-1.8x a warm one (issue
+ *  23; README, Speed). The benchmarks warm up the same way. */
+export const WARM_UP_ROUNDS = { beforeReady: 1, whenIdle: 4 };

@@ -69,6 +69,58 @@ impl KeyKind {
     }
 }
 
+/// Length of the warm-up request ([`warm_up_keys`]).
+pub const WARM_UP_FRAMES: usize = 512;
+
+/// Spacing of the warm-up keys: 4 s at 60 fps, the benchmarks' spacing.
+pub const WARM_UP_SPACING: usize = 240;
+
+/// Whole-pose keys for warming up a long-lived caller (the npm worker, once
+/// after loading): one every [`WARM_UP_SPACING`] frames over
+/// [`WARM_UP_FRAMES`] frames on `template`'s skeleton, the root walking
+/// forward (+z, 120 units a key) at the height that puts the rest pose's
+/// lowest point on the floor, every rotation channel a different sine of at
+/// most 25 degrees, other position channels 0.
+///
+/// The wasm `Inbetweener::warm_up` runs them (why, with its measurements,
+/// is written there); natively nothing needs them.
+pub fn warm_up_keys(template: &Bvh) -> Result<Vec<Keyframe>> {
+    let c = template.channel_count();
+    // rest-pose heights: each joint's offset added down the chain
+    let mut rest_y: Vec<f32> = Vec::with_capacity(template.joints.len());
+    for j in &template.joints {
+        let up = j.parent.map_or(0.0, |p| rest_y[p]);
+        rest_y.push(up + j.offset[1]);
+    }
+    let lowest = rest_y.iter().copied().fold(0.0f32, f32::min);
+    let mut one = template.clone();
+    (0..WARM_UP_FRAMES)
+        .step_by(WARM_UP_SPACING)
+        .enumerate()
+        .map(|(k, frame)| {
+            let mut row = vec![0.0f32; c];
+            for j in &template.joints {
+                for (i, ch) in j.channels.iter().enumerate() {
+                    let at = j.channel_start + i;
+                    row[at] = if ch.is_rotation() {
+                        25.0 * (0.7 * at as f32 + 1.3 * k as f32).sin()
+                    } else if j.parent.is_some() {
+                        0.0
+                    } else {
+                        match ch.axis() {
+                            1 => -lowest,
+                            2 => 120.0 * k as f32,
+                            _ => 0.0,
+                        }
+                    };
+                }
+            }
+            one.motion = row;
+            Keyframe::from_bvh(&one, 0, frame)
+        })
+        .collect()
+}
+
 fn bad(msg: String) -> Error {
     Error::Invalid(msg)
 }
@@ -261,4 +313,34 @@ pub fn request_from_json(text: &str, template: &Bvh) -> Result<RequestDoc> {
         variation,
         dna,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A root, a spine and a leg whose End Site is 8 below the root's rest
+    /// height (2 + -1 + -9).
+    const SKELETON: &str = "HIERARCHY\nROOT hips\n{\n  OFFSET 1 2 3\n  CHANNELS 6 Xposition Yposition Zposition Zrotation Yrotation Xrotation\n  JOINT spine\n  {\n    OFFSET 0 10 0\n    CHANNELS 3 Zrotation Xrotation Yrotation\n    End Site\n    {\n      OFFSET 0 3 0\n    }\n  }\n  JOINT leg\n  {\n    OFFSET -2 -1 0\n    CHANNELS 6 Xposition Yposition Zposition Yrotation Xrotation Zrotation\n    End Site\n    {\n      OFFSET 0 -9 0\n    }\n  }\n}\nMOTION\nFrames: 0\nFrame Time: 0.0166667\n";
+
+    #[test]
+    fn warm_up_keys_walk_forward_with_their_lowest_point_on_the_floor() {
+        let b = Bvh::parse(SKELETON).unwrap();
+        let keys = warm_up_keys(&b).unwrap();
+        let frames: Vec<usize> = keys.iter().map(|k| k.frame).collect();
+        assert_eq!(frames, vec![0, 240, 480]);
+        for (k, key) in keys.iter().enumerate() {
+            // root: offset (1, 2, 3) plus (0, 8, 120 k)
+            let root = &key.positions[..3];
+            assert_eq!(root, &[1.0, 10.0, 3.0 + 120.0 * k as f32][..]);
+            assert!(key.mask.iter().all(|&m| m), "whole poses");
+            assert!(key.positions.iter().all(|v| v.is_finite()));
+            assert!(key.rotations.is_some());
+        }
+        assert_ne!(
+            keys[0].positions[3..],
+            keys[1].positions[3..],
+            "each key its own pose"
+        );
+    }
 }

@@ -458,12 +458,52 @@ impl Inbetweener {
         self.residual.is_some()
     }
 
+    /// Runs the code a request runs, so that the first request is not the
+    /// one that brings the wasm code up to speed: `rounds` syntheses of
+    /// `motion::keys::warm_up_keys` (512 frames, whole poses every 240) by
+    /// the `model` method, then, with `generator` and when the residual
+    /// network is the model for whole poses, a short one by the generator on
+    /// the first two keys' root positions 63 frames apart (what partial keys
+    /// run). The npm worker calls it after
+    /// [`Inbetweener::prepare_any_length`], before it reports ready and then
+    /// a round at a time when idle (`web/lib/warm-up.js`).
+    ///
+    /// Why: V8 runs a wasm function's first calls on its baseline compiler's
+    /// code and switches to optimized code only at a call after it has run
+    /// enough, so a request that is the first to run a stretch of code at
+    /// length runs it slowly (with V8's flags `--no-liftoff
+    /// --no-wasm-lazy-compilation` the gap was gone). Measured in headless
+    /// Chromium with a training on the other core (README, Speed): the first
+    /// 512-frame synthesis took 1.5-1.8x a warm one after the 64-frame
+    /// rest-pose synthesis this replaces, 1.3-1.6x after 2 rounds here and
+    /// 0.7-1.4x after 5 (1.0-1.35x at 1,024-4,096 frames).
+    #[wasm_bindgen(js_name = warmUp)]
+    pub fn warm_up(&self, rounds: u32, generator: bool) -> Result<(), JsError> {
+        use crate::motion::keys::{warm_up_keys, WARM_UP_FRAMES};
+        let keys = warm_up_keys(&self.inner.template).map_err(js_err)?;
+        for _ in 0..rounds {
+            self.run_model(keys.clone(), WARM_UP_FRAMES, true, None, None, false)?;
+        }
+        if generator && self.residual_is_default() {
+            let joints = self.inner.joints();
+            let root =
+                |k: &crate::motion::Keyframe| [k.positions[0], k.positions[1], k.positions[2]];
+            let roots = vec![
+                crate::motion::Keyframe::root_only(0, root(&keys[0]), joints),
+                crate::motion::Keyframe::root_only(63, root(&keys[1]), joints),
+            ];
+            self.run_model(roots, 64, true, None, None, false)?;
+        }
+        Ok(())
+    }
+
     /// Builds and keeps the residual network's own plan for `frames` frames,
     /// which then serves that length instead of the plan for any length
     /// ([`Inbetweener::prepare_any_length`]): 11-18% faster at 2,048-4,096
-    /// frames (0-13% at 1,024), but 100-360 ms to build, so the npm worker
-    /// calls it when idle after a synthesis of that length (the four most
-    /// recent lengths are kept). Returns whether a plan was built: false
+    /// frames (0-13% at 1,024), but 100-360 ms to build and run once (see
+    /// `runtime::Model::prepare_shape`), so the npm worker calls it when idle
+    /// after a synthesis of that length (the four most recent lengths are
+    /// kept). Returns whether a plan was built: false
     /// when no residual network is loaded or that length's plan is kept
     /// already.
     #[wasm_bindgen(js_name = prepareLength)]
