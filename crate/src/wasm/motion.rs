@@ -466,7 +466,8 @@ impl Inbetweener {
     /// the first two keys' root positions 63 frames apart (what partial keys
     /// run). The npm worker calls it after
     /// [`Inbetweener::prepare_any_length`], before it reports ready and then
-    /// a round at a time when idle (`web/lib/warm-up.js`).
+    /// a round at a time when idle (`WARM_UP_ROUNDS` in
+    /// `web/lib/wasm-features.js`).
     ///
     /// Why: V8 runs a wasm function's first calls on its baseline compiler's
     /// code and switches to optimized code only at a call after it has run
@@ -479,20 +480,16 @@ impl Inbetweener {
     /// 0.7-1.4x after 5 (1.0-1.35x at 1,024-4,096 frames).
     #[wasm_bindgen(js_name = warmUp)]
     pub fn warm_up(&self, rounds: u32, generator: bool) -> Result<(), JsError> {
-        use crate::motion::keys::{warm_up_keys, WARM_UP_FRAMES};
+        use crate::motion::keys::{warm_up_keys, KeyKind, WARM_UP_FRAMES};
         let keys = warm_up_keys(&self.inner.template).map_err(js_err)?;
         for _ in 0..rounds {
             self.run_model(keys.clone(), WARM_UP_FRAMES, true, None, None, false)?;
         }
         if generator && self.residual_is_default() {
-            let joints = self.inner.joints();
-            let root =
-                |k: &crate::motion::Keyframe| [k.positions[0], k.positions[1], k.positions[2]];
-            let roots = vec![
-                crate::motion::Keyframe::root_only(0, root(&keys[0]), joints),
-                crate::motion::Keyframe::root_only(63, root(&keys[1]), joints),
-            ];
-            self.run_model(roots, 64, true, None, None, false)?;
+            let first = KeyKind::Root.of(&keys[0]).map_err(js_err)?;
+            let mut second = KeyKind::Root.of(&keys[1]).map_err(js_err)?;
+            second.frame = 63;
+            self.run_model(vec![first, second], 64, true, None, None, false)?;
         }
         Ok(())
     }
