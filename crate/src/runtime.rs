@@ -24,6 +24,8 @@ use std::collections::HashMap;
 use std::sync::Mutex;
 use tract_onnx::prelude::*;
 
+pub mod matmul_kernel;
+
 type Plan = TypedSimplePlan;
 
 /// Clears the upper halves of the x86-64 vector registers (`vzeroupper`)
@@ -233,6 +235,7 @@ impl Model {
         if slot.is_some() || self.typed.symbols.all_symbols().is_empty() {
             return Ok(false);
         }
+        matmul_kernel::choose()?;
         let plan = guard_tract(|| {
             self.typed
                 .clone()
@@ -243,6 +246,14 @@ impl Model {
         })?;
         *slot = Some(plan);
         Ok(true)
+    }
+
+    /// The matrix kernels (tract-linalg's names) the plan that runs inputs
+    /// of these shapes uses, building it if needed: for benchmarks and tests
+    /// of [`matmul_kernel`].
+    pub fn matmul_kernels(&self, shapes: &[Vec<usize>]) -> Result<Vec<String>> {
+        let plan = self.plan_for(shapes)?;
+        Ok(matmul_kernel::plan_kernels(&plan))
     }
 
     /// Number of inputs.
@@ -427,6 +438,7 @@ impl Model {
     /// Optimizes and caches the plan of one shape.
     fn build_plan(&self, shapes: &[Vec<usize>]) -> Result<std::sync::Arc<Plan>> {
         let values = self.check_shapes(shapes)?;
+        matmul_kernel::choose()?;
         let mut m = self.typed.clone();
         if !values.is_empty() {
             m = m.set_symbols(&values).map_err(model_err)?;

@@ -10,6 +10,10 @@
 // `tract_relaxed_ms` and `ratio_relaxed` the worker's core build with
 // relaxed SIMD (web/pkg-core/deeprep_relaxed_bg.wasm; null where this
 // browser lacks relaxed SIMD), the third runner of each round.
+// Both builds run products with the matrix kernel each chose by timing
+// when it loaded (runtime::matmul_kernel: deeprep's 3x12 or tract's 8x8;
+// `matmul_kernel` per build); `tract_relaxed_tract_kernel_ms`, the fourth
+// runner, is the relaxed build with tract's own 8x8 kernel, side by side.
 // Usage: node tests/web/bench_ort_page.mjs [--smoke]
 import { withBenchPage } from './chromium.mjs';
 
@@ -31,7 +35,7 @@ const CASES = [
 ];
 const cases = smoke ? CASES.filter(([n]) => ['rot6d_autoencoder', 'tween_generator, 512 frames'].includes(n)) : CASES;
 await withBenchPage(async (page) => {
-  const rows = await page.evaluate(async ({ cases, reps }) => {
+  const res = await page.evaluate(async ({ cases, reps }) => {
     const m = await import('./pkg/deeprep.js');
     // the worker's core wasm with relaxed SIMD (web/worker.js picks it where it validates)
     const { hasRelaxedSimd } = await import('./lib/wasm-features.js');
@@ -40,6 +44,7 @@ await withBenchPage(async (page) => {
       relaxed = await import('./pkg-core/deeprep.js');
       await relaxed.default({ module_or_path: './pkg-core/deeprep_relaxed_bg.wasm' });
     }
+    const kernels = { wasm: JSON.parse(m.OnnxModel.matmulKernel()), relaxed: relaxed && JSON.parse(relaxed.OnnxModel.matmulKernel()) };
     const ort = await import('../node_modules/onnxruntime-web/dist/ort.wasm.min.mjs');
     ort.env.wasm.numThreads = 1;
     ort.env.wasm.wasmPaths = new URL('../node_modules/onnxruntime-web/dist/', location.href).href;
@@ -72,11 +77,19 @@ await withBenchPage(async (page) => {
       const tract = fold ? m.OnnxModel.withFoldedFactors(bytes) : new m.OnnxModel(bytes);
       const session = await ort.InferenceSession.create(bytes, { executionProviders: ['wasm'], graphOptimizationLevel: 'all' });
       const tractR = relaxed && (fold ? relaxed.OnnxModel.withFoldedFactors(bytes) : new relaxed.OnnxModel(bytes));
-      let a, b, c;
-      const [tractMs, ortMs, relaxedMs = null] = await bestInTurn([
+      const tractT = relaxed && (fold ? relaxed.OnnxModel.withFoldedFactors(bytes) : new relaxed.OnnxModel(bytes));
+      let a, b, c, firstT = true;
+      const [tractMs, ortMs, relaxedMs = null, tractKernelMs = null] = await bestInTurn([
         () => { a = tract.runInputs(flat, new Uint32Array(shapes), new Uint32Array(ranks)); },
         async () => { b = (await session.run(feeds))[session.outputNames[0]].data; },
-        ...(tractR ? [() => { c = tractR.runInputs(flat, new Uint32Array(shapes), new Uint32Array(ranks)); }] : []),
+        ...(tractR ? [() => { c = tractR.runInputs(flat, new Uint32Array(shapes), new Uint32Array(ranks)); },
+          () => {
+            // its plan (built on this first call) with tract's kernel; then back to the choice
+            if (firstT) relaxed.OnnxModel.setMatmulKernel('tract');
+            tractT.runInputs(flat, new Uint32Array(shapes), new Uint32Array(ranks));
+            if (firstT) relaxed.OnnxModel.setMatmulKernel(kernels.relaxed.kernel === 'wasm_f32_8x8' ? 'tract' : 'own');
+            firstT = false;
+          }] : []),
       ]);
       let diff = 0, diffR = 0;
       for (let i = 0; i < a.length; i++) diff = Math.max(diff, Math.abs(a[i] - b[i]));
@@ -89,13 +102,15 @@ await withBenchPage(async (page) => {
                  tract_relaxed_ms: relaxedMs === null ? null : +relaxedMs.toFixed(2),
                  ratio_relaxed: relaxedMs === null ? null : +(relaxedMs / ortMs).toFixed(2),
                  max_output_difference_relaxed: c ? diffR : null,
+                 tract_relaxed_tract_kernel_ms: tractKernelMs === null ? null : +tractKernelMs.toFixed(2),
                  tract_profile_wasm: profile });
       tract.free();
       tractR?.free();
+      tractT?.free();
       await session.release();
     }
-    return out;
+    return { rows: out, kernels };
   }, { cases, reps: smoke ? 1 : 8 });
   console.log(JSON.stringify({ bench: 'tract_vs_onnxruntime_web', target: 'headless Chromium, wasm SIMD, one thread',
-                               onnxruntime_web: '1.30.0', rows }, null, 1));
+                               onnxruntime_web: '1.30.0', matmul_kernel: res.kernels, rows: res.rows }, null, 1));
 });

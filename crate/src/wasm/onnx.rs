@@ -12,6 +12,36 @@ pub struct OnnxModel {
 
 #[wasm_bindgen]
 impl OnnxModel {
+    /// Which matrix kernel plans optimized from now on run wide f32
+    /// products with (`runtime::matmul_kernel`): `"auto"` (the default:
+    /// deeprep's 3x12 kernel on x86-64 hosts, tract's 8x8 elsewhere),
+    /// `"own"` (deeprep's) or `"tract"` (tract's). For benchmarks; plans
+    /// already built keep theirs.
+    #[wasm_bindgen(js_name = setMatmulKernel)]
+    pub fn set_matmul_kernel(policy: &str) -> Result<(), JsError> {
+        use crate::runtime::matmul_kernel::{set_policy, Policy};
+        set_policy(match policy {
+            "auto" => Policy::Auto,
+            "own" => Policy::Own,
+            "tract" => Policy::Tract,
+            _ => {
+                return Err(JsError::new(&format!(
+                    "setMatmulKernel: {policy:?} is not \"auto\", \"own\" or \"tract\""
+                )))
+            }
+        });
+        Ok(())
+    }
+
+    /// The matrix kernel chosen (`runtime::matmul_kernel::choose`), as
+    /// JSON: `{kernel, by}` (`by`: `"x86-64 host"`, `"other host"`, or the
+    /// policy that fixed it); chooses now if no plan has yet.
+    #[wasm_bindgen(js_name = matmulKernel)]
+    pub fn matmul_kernel() -> Result<String, JsError> {
+        let c = crate::runtime::matmul_kernel::choose().map_err(js_err)?;
+        serde_json::to_string(&c).map_err(|e| JsError::new(&e.to_string()))
+    }
+
     /// Parses a model from the bytes of an .onnx file.
     #[wasm_bindgen(constructor)]
     pub fn new(bytes: &[u8]) -> Result<OnnxModel, JsError> {
