@@ -9,7 +9,8 @@ profile_models`). Prints two Markdown tables: the in-betweening per length
 (native and wasm, the default pipeline and the generator pipeline, beside
 thesis Table 5.3), and per bundled model tract natively, tract in wasm and
 onnxruntime-web (and tract with the worker's relaxed-SIMD build where the
-bench ran it), with what tract's own profile in wasm puts first.
+bench ran it, with the matrix kernel chosen and with tract's own), with what
+tract's own profile in wasm puts first.
 """
 import json
 import sys
@@ -57,10 +58,13 @@ def inbetween(d):
 def models(d):
     native = {r["model"]: r for r in d["profile"]["rows"]}
     relaxed = any(r.get("tract_relaxed_ms") is not None for r in d["ort"]["rows"])
+    # since session 27: the relaxed build again with tract's own 8x8 matrix kernel
+    tk = any(r.get("tract_relaxed_tract_kernel_ms") is not None for r in d["ort"]["rows"])
     out = ["| model (inputs) | tract, native | tract, wasm | onnxruntime-web | tract / ORT (wasm) "
            + ("| tract, wasm relaxed SIMD (the worker's build) | its / ORT " if relaxed else "")
+           + ("| the same with tract's 8x8 kernel " if tk else "")
            + "| tract's first operator in wasm (its own profile) | that operator's share of tract's time / ORT's whole run |",
-           "|---|---|---|---|---|---|---|" + ("---|---|" if relaxed else "")]
+           "|---|---|---|---|---|---|---|" + ("---|---|" if relaxed else "") + ("---|" if tk else "")]
     for r in d["ort"]["rows"]:
         n = native.get(r["model"], {})
         top = (r.get("tract_profile_wasm") or [None])[0]
@@ -70,6 +74,7 @@ def models(d):
         # times run high; the shares hold)
         alone = f"{top['share'] * r['tract_ms'] / r['onnxruntime_web_ms']:.2f}" if top and r["onnxruntime_web_ms"] else "-"
         rel = (f"{fmt(r.get('tract_relaxed_ms'))} | {fmt(r.get('ratio_relaxed'), 2)} | " if relaxed else "")
+        rel += f"{fmt(r.get('tract_relaxed_tract_kernel_ms'))} | " if tk else ""
         out.append(f"| {r['model']} | {fmt(n.get('best_profiled_run_ms'))} | {fmt(r['tract_ms'])} | "
                    f"{fmt(r['onnxruntime_web_ms'])} | {r['ratio']:.2f} | {rel}{first} | {alone} |")
     return "\n".join(out)
