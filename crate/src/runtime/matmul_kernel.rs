@@ -12,8 +12,9 @@
 //! vectors of the data side and one broadcast weight, 13 registers. In
 //! headless Chromium on x86-64 (relaxed SIMD, the bundled residual network,
 //! tract's tile against tiles of 2x8 to 8x4 in one page, in turn) it was the
-//! fastest: 0.69-0.81x tract's time at 1,024-4,096 frames, with the same
-//! output bit for bit (`docs/experiments/bench_matmul_kernels.mjs`;
+//! fastest: 0.65-0.82x tract's time at 1,024-4,096 frames, with the same
+//! output bit for bit (`docs/experiments/bench_matmul_kernels.mjs`,
+//! `matmul_tiles_2026-12-04.jsonl`;
 //! tiles with 15 registers or more, 6x8, 4x12, 5x8, 3x16, 2x20, were no
 //! faster than tract's).
 //!
@@ -83,8 +84,8 @@ static STATE: Mutex<State> = Mutex::new(State {
 });
 
 /// Whether the dispatch tier answers with [`OWN_KERNEL`] now (read by
-/// tract while it optimizes a plan, so kept apart from [`STATE`]'s lock,
-/// which [`choose`] holds while it optimizes its own).
+/// tract while it optimizes a plan: an atomic, so that tract's dispatch
+/// never waits on [`STATE`]'s lock).
 #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
 static USE_OWN: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
@@ -99,7 +100,7 @@ fn use_own(on: bool) {
 pub const AVAILABLE: bool = cfg!(all(target_arch = "wasm32", target_feature = "simd128"));
 
 /// Fixes the kernel of plans optimized from now on (`Own`, `Tract`), or
-/// (`Auto`) lets the next [`choose`] time them again. Plans already built
+/// (`Auto`) lets the next [`choose`] decide again. Plans already built
 /// keep theirs.
 pub fn set_policy(policy: Policy) {
     if let Ok(mut s) = STATE.lock() {
@@ -108,7 +109,7 @@ pub fn set_policy(policy: Policy) {
     }
     use_own(false);
     if policy != Policy::Auto {
-        // nothing to time: fixed now, for plans optimized without the runtime
+        // fixed now, also for plans optimized outside runtime::Model (gemm_plan)
         let _ = choose();
     }
 }
