@@ -159,8 +159,9 @@ await withBenchPage(async (page) => {
                  slerp_lerp_ms_with_bvh_and_fk: slerp,
                  ...(cand ? { candidate_total_ms: candBest, candidate_ran: candRan } : {}) });
     }
-    return { rows: out, warmUpMs };
+    // which matrix kernel the worker's build ran products with (runtime::matmul_kernel)
+    return { rows: out, warmUpMs, matmulKernel: JSON.parse(m.OnnxModel.matmulKernel()) };
   }, { sizes, reps: smoke ? 1 : 3, candidate });
   console.log(JSON.stringify({ bench: 'inbetween', target: 'wasm (headless Chromium, SwiftShader, 1 thread)',
-    ...(candidate ? { candidate } : {}), warm_up_ms: result.warmUpMs, rows: result.rows }, null, 1));
+    ...(candidate ? { candidate } : {}), warm_up_ms: result.warmUpMs, matmul_kernel: result.matmulKernel, rows: result.rows }, null, 1));
 });
