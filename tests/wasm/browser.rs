@@ -564,9 +564,8 @@ fn naive_product(w: &[f32], x: &[f32], m: usize, k: usize, n: usize) -> Vec<f32>
 #[wasm_bindgen_test]
 fn the_own_matmul_kernel_computes_products_of_any_shape() {
     use deeprep::runtime::matmul_kernel::{
-        gemm_plan, plan_kernels, set_policy, Policy, OWN_KERNEL,
+        gemm_plan, plan_kernels, run_gemm, set_policy, Policy, OWN_KERNEL,
     };
-    use tract_onnx::prelude::*;
     set_policy(Policy::Own);
     let mut ran = Vec::new();
     for (m, k, n) in [
@@ -588,18 +587,7 @@ fn the_own_matmul_kernel_computes_products_of_any_shape() {
         let x: Vec<f32> = (0..k * n).map(|i| (i as f32 * 0.11).cos()).collect();
         let plan = gemm_plan(&w, m, k, n).unwrap();
         ran.push(((m, k, n), plan_kernels(&plan)));
-        let y = tract_onnx::tract_core::plan::SimpleState::new(&plan)
-            .unwrap()
-            .run(tvec!(Tensor::from_shape(&[k, n], &x)
-                .unwrap()
-                .into_tvalue()))
-            .unwrap();
-        let y: Vec<f32> = y[0]
-            .to_plain_array_view::<f32>()
-            .unwrap()
-            .iter()
-            .copied()
-            .collect();
+        let y = run_gemm(&plan, &x, k, n).unwrap();
         let want = naive_product(&w, &x, m, k, n);
         let d = max_abs_diff(&y, &want);
         assert!(d <= 1e-5 * k as f32, "{m}x{k}x{n}: {d}");

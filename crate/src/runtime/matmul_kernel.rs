@@ -40,6 +40,7 @@ use crate::error::{Error, Result};
 use std::sync::Mutex;
 use tract_onnx::prelude::*;
 use tract_onnx::tract_core::ops::einsum::EinSum;
+use tract_onnx::tract_core::plan::SimpleState;
 
 /// The name tract-linalg knows [`OWN_KERNEL`]'s kernel by.
 pub const OWN_KERNEL: &str = "deeprep_wasm_f32_3x12";
@@ -180,6 +181,29 @@ pub fn gemm_plan(
         .map_err(err)?
         .into_runnable()
         .map_err(err)
+}
+
+/// Runs a [`gemm_plan`] on `x` (`k` x `n`, row-major); returns the
+/// product, `m` x `n`, row-major.
+pub fn run_gemm(
+    plan: &std::sync::Arc<TypedSimplePlan>,
+    x: &[f32],
+    k: usize,
+    n: usize,
+) -> Result<Vec<f32>> {
+    let err = |e: TractError| Error::Model(e.to_string());
+    let x = Tensor::from_shape(&[k, n], x).map_err(err)?.into_tvalue();
+    let y = SimpleState::new(plan)
+        .and_then(|mut s| s.run(tvec!(x)))
+        .map_err(err)?;
+    let y = y
+        .first()
+        .ok_or_else(|| Error::Model("the product has no output".into()))?;
+    Ok(y.to_plain_array_view::<f32>()
+        .map_err(err)?
+        .iter()
+        .copied()
+        .collect())
 }
 
 /// The names of the matrix kernels a plan's products run with.
@@ -430,7 +454,6 @@ mod wasm_kernel {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use tract_onnx::tract_core::plan::SimpleState;
 
     #[test]
     fn a_gemm_plan_computes_the_product() {
@@ -438,18 +461,7 @@ mod tests {
         let w: Vec<f32> = (0..m * k).map(|i| (i as f32 * 0.37).sin()).collect();
         let x: Vec<f32> = (0..k * n).map(|i| (i as f32 * 0.11).cos()).collect();
         let plan = gemm_plan(&w, m, k, n).unwrap();
-        let y = SimpleState::new(&plan)
-            .unwrap()
-            .run(tvec!(Tensor::from_shape(&[k, n], &x)
-                .unwrap()
-                .into_tvalue()))
-            .unwrap();
-        let y: Vec<f32> = y[0]
-            .to_plain_array_view::<f32>()
-            .unwrap()
-            .iter()
-            .copied()
-            .collect();
+        let y = run_gemm(&plan, &x, k, n).unwrap();
         for r in 0..m {
             for c in 0..n {
                 let want: f32 = (0..k).map(|i| w[r * k + i] * x[i * n + c]).sum();
