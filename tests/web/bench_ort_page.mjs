@@ -10,8 +10,8 @@
 // `tract_relaxed_ms` and `ratio_relaxed` the worker's core build with
 // relaxed SIMD (web/pkg-core/deeprep_relaxed_bg.wasm; null where this
 // browser lacks relaxed SIMD), the third runner of each round.
-// Both builds run products with the matrix kernel each chose by timing
-// when it loaded (runtime::matmul_kernel: deeprep's 3x12 or tract's 8x8;
+// Both builds run products with the matrix kernel runtime::matmul_kernel
+// chooses for this host (deeprep's 3x12 on x86-64, tract's 8x8 elsewhere;
 // `matmul_kernel` per build); `tract_relaxed_tract_kernel_ms`, the fourth
 // runner, is the relaxed build with tract's own 8x8 kernel, side by side.
 // Usage: node tests/web/bench_ort_page.mjs [--smoke]
@@ -84,10 +84,10 @@ await withBenchPage(async (page) => {
         async () => { b = (await session.run(feeds))[session.outputNames[0]].data; },
         ...(tractR ? [() => { c = tractR.runInputs(flat, new Uint32Array(shapes), new Uint32Array(ranks)); },
           () => {
-            // its plan (built on this first call) with tract's kernel; then back to the choice
+            // its plan (built on this first call) with tract's kernel; then back to the host's choice
             if (firstT) relaxed.OnnxModel.setMatmulKernel('tract');
             tractT.runInputs(flat, new Uint32Array(shapes), new Uint32Array(ranks));
-            if (firstT) relaxed.OnnxModel.setMatmulKernel(kernels.relaxed.kernel === 'wasm_f32_8x8' ? 'tract' : 'own');
+            if (firstT) relaxed.OnnxModel.setMatmulKernel('auto');
             firstT = false;
           }] : []),
       ]);

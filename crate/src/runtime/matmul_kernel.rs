@@ -48,8 +48,7 @@ pub const OWN_KERNEL: &str = "deeprep_wasm_f32_3x12";
 pub const TRACT_KERNEL: &str = "wasm_f32_8x8";
 
 /// Which kernel plans optimized from now on use for f32 products.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Policy {
     /// [`OWN_KERNEL`] on x86-64 hosts, tract's elsewhere (the default).
     Auto,
@@ -113,12 +112,6 @@ pub fn set_policy(policy: Policy) {
         // fixed now, also for plans optimized outside runtime::Model (gemm_plan)
         let _ = choose();
     }
-}
-
-/// The current choice, `None` before [`choose`] or where
-/// [`AVAILABLE`] is false.
-pub fn choice() -> Option<Choice> {
-    STATE.lock().ok().and_then(|s| s.choice.clone())
 }
 
 /// Decides the kernel once (until [`set_policy`]); the runtime calls it
