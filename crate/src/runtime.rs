@@ -61,6 +61,9 @@ pub struct NodeTime {
     pub node: String,
     /// Its operator (tract's name for it, e.g. `Conv`, `EinSum`, `Gather`).
     pub op: String,
+    /// For a matrix product (`OptMatMul`), the matrix kernel it runs
+    /// ([`matmul_kernel::node_kernel`]): which kernel a model's time goes to.
+    pub kernel: Option<String>,
     /// Milliseconds.
     pub ms: f64,
 }
@@ -70,6 +73,10 @@ pub struct NodeTime {
 pub struct OpTime {
     /// tract's name for the operator.
     pub op: String,
+    /// The matrix kernel, for products: products on different kernels are
+    /// counted apart.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kernel: Option<String>,
     /// Milliseconds per run, all its nodes together.
     pub ms: f64,
     /// Its share of the nodes' total time.
@@ -78,19 +85,24 @@ pub struct OpTime {
     pub nodes: usize,
 }
 
-/// Sums profiled runs per operator: mean milliseconds per run, share of the
-/// total and node count, slowest first.
+/// Sums profiled runs per operator (and per matrix kernel for products):
+/// mean milliseconds per run, share of the total and node count, slowest
+/// first.
 pub fn per_op(runs: &[Vec<NodeTime>]) -> Vec<OpTime> {
     let n = runs.len().max(1) as f64;
     let mut acc: Vec<OpTime> = Vec::new();
     for t in runs.iter().flatten() {
-        match acc.iter_mut().find(|o| o.op == t.op) {
+        match acc
+            .iter_mut()
+            .find(|o| o.op == t.op && o.kernel == t.kernel)
+        {
             Some(o) => {
                 o.ms += t.ms / n;
                 o.nodes += 1;
             }
             None => acc.push(OpTime {
                 op: t.op.clone(),
+                kernel: t.kernel.clone(),
                 ms: t.ms / n,
                 share: 0.0,
                 nodes: 1,
@@ -305,10 +317,12 @@ impl Model {
                     let r = tract_onnx::tract_core::plan::eval(ctx, op_state, node, input);
                     clear_upper_vector_state();
                     if let (Some(c), Some(t0)) = (clock, t0) {
+                        let ms = c() - t0;
                         times.push(NodeTime {
                             node: node.name.clone(),
                             op: node.op().name().to_string(),
-                            ms: c() - t0,
+                            kernel: matmul_kernel::node_kernel(node),
+                            ms,
                         });
                     }
                     r
@@ -678,6 +692,7 @@ mod profile_tests {
         let t = |node: &str, op: &str, ms: f64| NodeTime {
             node: node.into(),
             op: op.into(),
+            kernel: None,
             ms,
         };
         let runs = vec![
@@ -707,6 +722,36 @@ mod profile_tests {
     }
 
     #[test]
+    fn per_op_counts_products_on_different_kernels_apart() {
+        let t = |op: &str, kernel: Option<&str>, ms: f64| NodeTime {
+            node: String::new(),
+            op: op.into(),
+            kernel: kernel.map(str::to_string),
+            ms,
+        };
+        let ops = per_op(&[vec![
+            t("OptMatMul", Some("wasm_f32_8x8"), 1.0),
+            t("OptMatMul", Some("deeprep_wasm_f32_3x12"), 4.0),
+            t("OptMatMul", Some("wasm_f32_8x8"), 2.0),
+            t("Add", None, 1.0),
+        ]]);
+        let got: Vec<_> = ops
+            .iter()
+            .map(|o| (o.op.as_str(), o.kernel.as_deref(), o.ms, o.nodes))
+            .collect();
+        assert_eq!(
+            got,
+            [
+                ("OptMatMul", Some("deeprep_wasm_f32_3x12"), 4.0, 1),
+                ("OptMatMul", Some("wasm_f32_8x8"), 3.0, 2),
+                ("Add", None, 1.0, 1),
+            ]
+        );
+        let json = serde_json::to_string(&ops[2]).unwrap();
+        assert!(!json.contains("kernel"), "{json}");
+    }
+
+    #[test]
     fn profile_times_every_node_of_the_plan() {
         let Some(m) = bundled_tween_path() else {
             return;
@@ -721,7 +766,10 @@ mod profile_tests {
         for t in &times {
             assert!(nodes.iter().any(|n| n.name == t.node), "{t:?}");
             assert!(t.ms >= 0.0 && t.ms.is_finite(), "{t:?}");
+            // a kernel named exactly on the products
+            assert_eq!(t.kernel.is_some(), t.op == "OptMatMul", "{t:?}");
         }
+        assert!(times.iter().any(|t| t.kernel.is_some()), "no product timed");
         for &ix in plan.order_without_consts() {
             assert!(
                 times.iter().any(|t| t.node == nodes[ix].name),

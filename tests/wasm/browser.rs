@@ -96,6 +96,13 @@ fn onnx_models_profile_per_operator_in_the_browser() {
     assert!(ops
         .iter()
         .any(|o| o["op"].as_str().unwrap().contains("MatMul")));
+    // the products' kernels are named, and only theirs
+    for o in &ops {
+        let kernel = o.get("kernel").and_then(|k| k.as_str());
+        assert_eq!(kernel.is_some(), o["op"] == "OptMatMul", "{o}");
+        assert!(kernel.is_none_or(|k| k.contains("f32")), "{o}");
+    }
+    assert!(ops.iter().any(|o| o.get("kernel").is_some()), "{ops:?}");
     let ms: Vec<f64> = ops.iter().map(|o| o["ms"].as_f64().unwrap()).collect();
     assert!(ms.windows(2).all(|w| w[0] >= w[1]), "slowest first: {ms:?}");
     assert!(m.profile_inputs(&input, &shape, &[9], 1).is_err());

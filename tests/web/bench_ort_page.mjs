@@ -5,7 +5,9 @@
 // after one warm-up run of each (which builds tract's plan); the ratio
 // tract / onnxruntime-web; the largest difference between their outputs;
 // and tract's time per operator in this page (OnnxModel.profileInputs:
-// every node of its plan timed with performance.now(), top four).
+// every node of its plan timed with performance.now(), top four; matrix
+// products per kernel, `kernel`; in the worker's relaxed build where the
+// browser has it, `tract_profile_build`).
 // `tract_ms` is the page-side package's build (web/pkg, SIMD);
 // `tract_relaxed_ms` and `ratio_relaxed` the worker's core build with
 // relaxed SIMD (web/pkg-core/deeprep_relaxed_bg.wasm; null where this
@@ -94,16 +96,19 @@ await withBenchPage(async (page) => {
       let diff = 0, diffR = 0;
       for (let i = 0; i < a.length; i++) diff = Math.max(diff, Math.abs(a[i] - b[i]));
       if (c) for (let i = 0; i < c.length; i++) diffR = Math.max(diffR, Math.abs(c[i] - b[i]));
-      // where tract spends its time here, in wasm: its plan's nodes timed, per operator
-      const profile = JSON.parse(tract.profileInputs(flat, new Uint32Array(shapes), new Uint32Array(ranks), reps))
-        .slice(0, 4).map((o) => ({ op: o.op, ms: +o.ms.toFixed(2), share: +o.share.toFixed(3), nodes: o.nodes }));
+      // where tract spends its time here, in wasm, in the worker's build where this browser
+      // has it: its plan's nodes timed, per operator (products per matrix kernel)
+      const profiled = tractR || tract;
+      const profile = JSON.parse(profiled.profileInputs(flat, new Uint32Array(shapes), new Uint32Array(ranks), reps))
+        .slice(0, 4).map((o) => ({ op: o.op, ...(o.kernel ? { kernel: o.kernel } : {}), ms: +o.ms.toFixed(2),
+                                   share: +o.share.toFixed(3), nodes: o.nodes }));
       out.push({ model: name, tract_ms: +tractMs.toFixed(2), onnxruntime_web_ms: +ortMs.toFixed(2),
                  ratio: +(tractMs / ortMs).toFixed(2), max_output_difference: diff, outputs: a.length === b.length ? a.length : `${a.length} vs ${b.length}`,
                  tract_relaxed_ms: relaxedMs === null ? null : +relaxedMs.toFixed(2),
                  ratio_relaxed: relaxedMs === null ? null : +(relaxedMs / ortMs).toFixed(2),
                  max_output_difference_relaxed: c ? diffR : null,
                  tract_relaxed_tract_kernel_ms: tractKernelMs === null ? null : +tractKernelMs.toFixed(2),
-                 tract_profile_wasm: profile });
+                 tract_profile_wasm: profile, tract_profile_build: tractR ? 'relaxed-simd' : 'simd128' });
       tract.free();
       tractR?.free();
       tractT?.free();

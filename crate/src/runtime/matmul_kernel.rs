@@ -201,13 +201,22 @@ pub fn run_gemm(
 
 /// The names of the matrix kernels a plan's products run with.
 pub fn plan_kernels(plan: &TypedSimplePlan) -> Vec<String> {
-    use tract_onnx::tract_core::ops::matmul::optimized::OptMatMul;
     plan.model()
         .nodes
         .iter()
-        .filter_map(|n| n.op_as::<OptMatMul>())
-        .flat_map(|op| op.mmm.iter().map(|k| k.name().to_string()))
+        .filter_map(node_kernel)
+        .flat_map(|k| k.split('+').map(str::to_string).collect::<Vec<_>>())
         .collect()
+}
+
+/// The matrix kernel a plan node runs its product with (tract-linalg's
+/// name; several joined by `+` where tract keeps one per case of a
+/// symbolic size), or `None` for a node that is not a matrix product.
+pub fn node_kernel(node: &TypedNode) -> Option<String> {
+    use tract_onnx::tract_core::ops::matmul::optimized::OptMatMul;
+    let op = node.op_as::<OptMatMul>()?;
+    let names: Vec<&str> = op.mmm.iter().map(|k| k.name()).collect();
+    Some(names.join("+"))
 }
 
 #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
