@@ -204,8 +204,9 @@ pub fn plan_kernels(plan: &TypedSimplePlan) -> Vec<String> {
     plan.model()
         .nodes
         .iter()
-        .filter_map(node_kernel)
-        .flat_map(|k| k.split('+').map(str::to_string).collect::<Vec<_>>())
+        .filter_map(kernel_names)
+        .flatten()
+        .map(str::to_string)
         .collect()
 }
 
@@ -213,10 +214,14 @@ pub fn plan_kernels(plan: &TypedSimplePlan) -> Vec<String> {
 /// name; several joined by `+` where tract keeps one per case of a
 /// symbolic size), or `None` for a node that is not a matrix product.
 pub fn node_kernel(node: &TypedNode) -> Option<String> {
+    kernel_names(node).map(|names| names.collect::<Vec<_>>().join("+"))
+}
+
+/// tract-linalg's names of a product node's kernels; `None` for other nodes.
+fn kernel_names(node: &TypedNode) -> Option<impl Iterator<Item = &str>> {
     use tract_onnx::tract_core::ops::matmul::optimized::OptMatMul;
-    let op = node.op_as::<OptMatMul>()?;
-    let names: Vec<&str> = op.mmm.iter().map(|k| k.name()).collect();
-    Some(names.join("+"))
+    node.op_as::<OptMatMul>()
+        .map(|op| op.mmm.iter().map(|k| k.name()))
 }
 
 #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
