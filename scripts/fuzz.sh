@@ -28,10 +28,10 @@ while [ $# -gt 0 ]; do
     *) targets+=("$1"); shift ;;
   esac
 done
-[ ${#targets[@]} -gt 0 ] || targets=(bvh_roundtrip bvh_motion gltf_rig keys_json hair_photo tween_manifest request)
+[ ${#targets[@]} -gt 0 ] || targets=(bvh_roundtrip bvh_motion gltf_rig keys_json hair_photo tween_manifest request mesh_obj hair_ppm cli_args)
 
 declare -A SEEDS=([bvh_roundtrip]=bvh [bvh_motion]=bvh [gltf_rig]=gltf [keys_json]=keys [hair_photo]=hair
-                  [tween_manifest]=manifest [request]=request)
+                  [tween_manifest]=manifest [request]=request [mesh_obj]=obj [hair_ppm]=ppm [cli_args]=args)
 declare -A DICTS=([bvh_roundtrip]=fuzz/bvh.dict [bvh_motion]=fuzz/bvh.dict)
 
 export CARGO_TARGET_DIR="${DEEPREP_FUZZ_TARGET_DIR:-$PWD/fuzz/target}"

@@ -84,6 +84,20 @@ impl std::error::Error for Error {}
 /// Shorthand for `Result<T, deeprep::Error>`.
 pub type Result<T> = std::result::Result<T, Error>;
 
+/// The one rule for numeric options (CLI flags, wasm and JS arguments): a
+/// number inside `[lo, hi]`. NaN is refused, and so is an infinity unless a
+/// bound is infinite (`hi = f64::INFINITY` where infinity means "never", as
+/// the hair's curl threshold). Every front-end reports the same message:
+/// "NAME must be a number in [LO, HI], found V".
+pub fn check_option(name: &str, value: f64, lo: f64, hi: f64) -> Result<()> {
+    if value.is_nan() || value < lo || value > hi {
+        return Err(Error::Invalid(format!(
+            "{name} must be a number in [{lo}, {hi}], found {value}"
+        )));
+    }
+    Ok(())
+}
+
 /// Checks that every element of `xs` is finite.
 pub fn check_finite(what: &str, xs: &[f32]) -> Result<()> {
     match xs.iter().position(|x| !x.is_finite()) {

@@ -64,9 +64,42 @@ impl Options {
                 "--base is at most 10000, --blends and --views at most 100, --size at most {MAX_IMAGE_SIZE}"
             )));
         }
+        let bytes = self.max_bytes();
+        if bytes > MAX_DATASET_BYTES as u128 {
+            return Err(Error::Invalid(format!(
+                "these options write up to {:.1} GB ({} hairs, {} renders of {}x{}); the limit is {} GB: \
+                 lower --base, --blends, --views or --size",
+                bytes as f64 / 1e9,
+                self.max_hairs(),
+                self.max_hairs() * self.views as u128,
+                self.size,
+                self.size,
+                MAX_DATASET_BYTES / 1_000_000_000
+            )));
+        }
         Ok(())
     }
+
+    /// At most how many hairs: per class each base style, its mirror and
+    /// `blends` blends per base style.
+    pub fn max_hairs(&self) -> u128 {
+        HairClass::all().len() as u128 * self.base as u128 * (2 + self.blends as u128)
+    }
+
+    /// At most how many bytes the four binary files take (known before any
+    /// is written): per hair its strands and curvatures, per render its
+    /// image and visibility flags.
+    pub fn max_bytes(&self) -> u128 {
+        let samples = (GRID * GRID * POINTS) as u128;
+        let per_hair = samples * 4 * 4;
+        let per_render = 3 * (self.size as u128).pow(2) + samples;
+        self.max_hairs() * (per_hair + self.views as u128 * per_render)
+    }
 }
+
+/// The most a dataset may write (bytes): 64 GB, far above the default's
+/// (about 0.6 GB) and below what a disk of the machines this runs on holds.
+pub const MAX_DATASET_BYTES: u64 = 64_000_000_000;
 
 /// Where the four binary files go.
 pub struct Sinks<'a> {
@@ -80,8 +113,8 @@ pub struct Sinks<'a> {
     pub visible: &'a mut dyn Write,
 }
 
-fn io(e: std::io::Error) -> Error {
-    Error::Invalid(format!("hair dataset: {e}"))
+fn io(file: &str) -> impl Fn(std::io::Error) -> Error + '_ {
+    move |e| Error::Invalid(format!("hair dataset: {file}: {e}"))
 }
 
 /// Generates the dataset into `sinks` and returns the `PREFIX.json`
@@ -99,13 +132,19 @@ pub fn write(o: &Options, sinks: Sinks, mut progress: impl FnMut(HairClass)) -> 
             .iter()
             .flat_map(|p| p.iter().flat_map(|v| v.to_le_bytes()))
             .collect();
-        sinks.strands.write_all(&bytes).map_err(io)?;
+        sinks
+            .strands
+            .write_all(&bytes)
+            .map_err(io("PREFIX.strands.f32"))?;
         let bytes: Vec<u8> = h
             .curvatures()
             .iter()
             .flat_map(|v| v.to_le_bytes())
             .collect();
-        sinks.curvature.write_all(&bytes).map_err(io)?;
+        sinks
+            .curvature
+            .write_all(&bytes)
+            .map_err(io("PREFIX.curvature.f32"))?;
         for _ in 0..o.views {
             let view = View::random(rng);
             let r = render(&h.points, &body, &view, o.size, rng)?;
@@ -114,9 +153,15 @@ pub fn write(o: &Options, sinks: Sinks, mut progress: impl FnMut(HairClass)) -> 
                 .iter()
                 .map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
                 .collect();
-            sinks.images.write_all(&img).map_err(io)?;
+            sinks
+                .images
+                .write_all(&img)
+                .map_err(io("PREFIX.images.u8"))?;
             let vis: Vec<u8> = r.visible.iter().map(|&v| v as u8).collect();
-            sinks.visible.write_all(&vis).map_err(io)?;
+            sinks
+                .visible
+                .write_all(&vis)
+                .map_err(io("PREFIX.visible.u8"))?;
             renders_meta.push(
                 json!({"hair": idx, "yaw": view.yaw, "pitch": view.pitch, "roll": view.roll}),
             );
@@ -166,8 +211,13 @@ pub fn write(o: &Options, sinks: Sinks, mut progress: impl FnMut(HairClass)) -> 
         }
         progress(class);
     }
-    for f in [sinks.strands, sinks.curvature, sinks.images, sinks.visible] {
-        f.flush().map_err(io)?;
+    for (f, name) in [
+        (sinks.strands, "PREFIX.strands.f32"),
+        (sinks.curvature, "PREFIX.curvature.f32"),
+        (sinks.images, "PREFIX.images.u8"),
+        (sinks.visible, "PREFIX.visible.u8"),
+    ] {
+        f.flush().map_err(io(name))?;
     }
     let counts = |key: &str| {
         let mut m: BTreeMap<String, usize> = Default::default();

@@ -50,6 +50,8 @@ impl TestHair {
     /// `noise` (radians; the page and the CLI's reconstruction use
     /// [`TEST_NOISE`], the preview 0), the noise seeded from the hair's seed.
     pub fn render(&self, body: &Body, yaw_deg: f32, noise: f32, size: usize) -> Result<Render> {
+        check_yaw(yaw_deg)?;
+        crate::error::check_option("noise (radians)", noise as f64, 0.0, 1.0)?;
         let hair = self.hair(body)?;
         let view = View {
             yaw: yaw_deg.to_radians(),
@@ -59,6 +61,19 @@ impl TestHair {
         let mut rng = Rng::new(self.seed ^ 0x5eed);
         render(&hair.points, body, &view, size, &mut rng)
     }
+}
+
+/// Checks a view's yaw (degrees) by [`crate::error::check_option`]'s rule:
+/// in [-360, 360].
+pub fn check_yaw(yaw_deg: f32) -> Result<()> {
+    crate::error::check_option("yaw (degrees)", yaw_deg as f64, -360.0, 360.0)
+}
+
+/// Pixels of a 3 × 256 × 256 network input whose segmentation channel (the
+/// third) marks hair; an input with none has nothing to reconstruct.
+pub fn hair_pixels(image: &[f32]) -> usize {
+    let plane = image.len() / 3;
+    image[2 * plane..].iter().filter(|&&v| v > 0.5).count()
 }
 
 /// The orientation noise of test inputs (radians), as in training renders.
@@ -120,7 +135,15 @@ mod with_model {
 
         /// Runs the job: features, strands, collision error.
         pub fn run(&self, model: &HairModel, body: &Body) -> Result<HairResult> {
-            let features = model.features(&self.image(body)?)?;
+            self.reconstruct.check()?;
+            let image = self.image(body)?;
+            if image.len() == 3 * 256 * 256 && hair_pixels(&image) == 0 {
+                return Err(Error::Invalid(
+                    "the input shows no hair: its segmentation channel (blue) marks no pixel above 0.5"
+                        .into(),
+                ));
+            }
+            let features = model.features(&image)?;
             let strands = model.strands_from_features(&features, &self.reconstruct)?;
             let collision_error = body.collision_error(&strands.points, crate::hair::POINTS);
             Ok(HairResult {

@@ -12,6 +12,7 @@
 //!   (gravity, stiffness, partings, curls, clumps, collisions, blending).
 //! - [`orientation`]: the photo path: a Gabor filter bank turns an image
 //!   and a hair mask into the network's orientation input.
+//! - [`ppm`]: binary PPM images, the CLI's preview and image input.
 //! - [`render`]: the 3 × 256 × 256 network input (undirected orientation and
 //!   segmentation) from a view, with per-sample visibility for eq. 3.2.
 //! - [`gpu`]: the strand MLPs as a WGSL compute shader, checked against the CPU.
@@ -33,6 +34,7 @@ pub mod job;
 #[cfg(feature = "onnx")]
 pub mod model;
 pub mod orientation;
+pub mod ppm;
 pub mod render;
 pub mod scalp;
 pub mod strand;

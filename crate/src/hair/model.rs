@@ -32,6 +32,31 @@ pub struct Reconstruct {
     pub curl_threshold: f32,
 }
 
+impl Reconstruct {
+    /// Gaussian smoothing's largest sigma, in samples (a strand has 100).
+    pub const MAX_SMOOTH: f32 = 50.0;
+
+    /// Checks the settings by [`crate::error::check_option`]'s rule: strands
+    /// in [1, 200000], smoothing in [0, 50] samples, the curl threshold in
+    /// [0, inf] (inf: never curl).
+    pub fn check(&self) -> Result<()> {
+        use crate::error::check_option;
+        check_option("strands", self.strands as f64, 1.0, 200_000.0)?;
+        check_option(
+            "smooth (sigma in samples)",
+            self.smooth_sigma as f64,
+            0.0,
+            Self::MAX_SMOOTH as f64,
+        )?;
+        check_option(
+            "curl (threshold in 1/m)",
+            self.curl_threshold as f64,
+            0.0,
+            f64::INFINITY,
+        )
+    }
+}
+
 impl Default for Reconstruct {
     fn default() -> Self {
         Reconstruct {
@@ -361,12 +386,7 @@ impl HairModel {
     /// Strands from strand features (C × 32 × 32): upsampled to
     /// `opts.strands`, decoded, placed at their roots, smoothed, curls restored.
     pub fn strands_from_features(&self, features: &[f32], opts: &Reconstruct) -> Result<Strands> {
-        if opts.strands == 0 || opts.strands > 200_000 {
-            return Err(Error::Invalid(format!(
-                "hair: {} strands requested (1..=200000)",
-                opts.strands
-            )));
-        }
+        opts.check()?;
         let uv = Self::strand_uv(opts.strands);
         let feats = upsample::upsample(features, self.channels, GRID, &uv)?;
         let (local, curvature) = self.decode(&feats, uv.len())?;

@@ -241,7 +241,25 @@ pub struct PoseSet {
     pub extra: Map<String, Value>,
 }
 
+/// The most position values (poses × vertices × 3) a [`PoseSet`] holds:
+/// 2^28, 1 GiB of float32, checked before a set grows past it.
+pub const MAX_POSE_SET_VALUES: usize = 1 << 28;
+
 impl PoseSet {
+    /// Checks up front that `poses` meshes of `vertices` vertices fit in a
+    /// set ([`MAX_POSE_SET_VALUES`]), with an error that names both.
+    pub fn check_size(poses: usize, vertices: usize) -> Result<()> {
+        let values = (poses as u128) * (vertices as u128) * 3;
+        if values > MAX_POSE_SET_VALUES as u128 {
+            return Err(Error::Invalid(format!(
+                "{poses} poses x {vertices} vertices is {:.2} GB of positions; a pose set holds at most {MAX_POSE_SET_VALUES} values ({} GB): ask for fewer poses or a smaller mesh",
+                values as f64 * 4.0 / 1e9,
+                MAX_POSE_SET_VALUES * 4 / 1_000_000_000
+            )));
+        }
+        Ok(())
+    }
+
     /// An empty set of meshes with `vertices` vertices.
     pub fn new(vertices: usize) -> Self {
         PoseSet {
@@ -271,6 +289,7 @@ impl PoseSet {
                 self.vertices
             )));
         }
+        Self::check_size(self.len() + 1, self.vertices)?;
         self.data.extend(pose.iter().flatten());
         self.labels.push(label);
         Ok(())
@@ -278,7 +297,22 @@ impl PoseSet {
 
     /// The `.f32` file's bytes (little-endian).
     pub fn data_bytes(&self) -> Vec<u8> {
-        self.data.iter().flat_map(|v| v.to_le_bytes()).collect()
+        let mut out = Vec::with_capacity(self.data.len() * 4);
+        // a Vec's writes do not fail
+        let _ = self.write_data(&mut out);
+        out
+    }
+
+    /// Writes the `.f32` file's bytes (little-endian) to `w` in chunks,
+    /// without a second copy of the set.
+    pub fn write_data(&self, w: &mut impl std::io::Write) -> std::io::Result<()> {
+        let mut buf = Vec::with_capacity(1 << 16);
+        for chunk in self.data.chunks(1 << 14) {
+            buf.clear();
+            buf.extend(chunk.iter().flat_map(|v| v.to_le_bytes()));
+            w.write_all(&buf)?;
+        }
+        w.flush()
     }
 
     /// The `.json` description's text.

@@ -94,6 +94,38 @@ impl Graph {
         out
     }
 
+    /// How many vertices [`Graph::ring`]`(start, max)` holds, or `None` as
+    /// soon as it is more than `cap` (the work stays within `cap` visits of
+    /// adjacency lists, whatever the valences).
+    pub fn ring_size_capped(&self, start: usize, max: usize, cap: usize) -> Option<usize> {
+        let mut seen = std::collections::HashSet::new();
+        seen.insert(start);
+        let mut frontier = vec![start];
+        for _ in 1..=max {
+            let mut next = Vec::new();
+            for &u in &frontier {
+                for &w in &self.adj[u] {
+                    if seen.insert(w) {
+                        if seen.len() > cap {
+                            return None;
+                        }
+                        next.push(w);
+                    }
+                }
+            }
+            if next.is_empty() {
+                break;
+            }
+            frontier = next;
+        }
+        Some(seen.len())
+    }
+
+    /// The number of neighbours of `v`.
+    pub fn degree(&self, v: usize) -> usize {
+        self.adj[v].len()
+    }
+
     /// Breadth-first order of the whole graph: component after component,
     /// each started from `starts` first (in order) and then from its lowest
     /// unvisited vertex; neighbours are visited in index order.
@@ -165,7 +197,9 @@ impl Graph {
 /// index of every vertex and the number of welded vertices. Meshes split at
 /// normal or UV seams become one surface again.
 pub fn weld(positions: &[[f32; 3]], eps: f32) -> (Vec<usize>, usize) {
-    let q = |v: f32| (v / eps.max(f32::MIN_POSITIVE)).round() as i64;
+    // in double precision: v / eps overflows float32 for tiny eps
+    let eps = (eps as f64).max(f64::MIN_POSITIVE);
+    let q = |v: f32| (v as f64 / eps).round() as i64;
     let mut first = std::collections::HashMap::new();
     let mut map = Vec::with_capacity(positions.len());
     for p in positions {

@@ -80,8 +80,55 @@ pub struct Sampling {
     pub up: NeighborTable,
 }
 
+/// The most vertices one neighbourhood that sampling lists may hold (an
+/// `r`-ring, or the `2s − 1`-ring that connects the sampled graph). A mesh
+/// vertex has 5-7 neighbours and its 2-ring about 19 vertices; a fan of
+/// thousands of triangles around one vertex (a big polygon fan-triangulated)
+/// would make every table grow with the square of its valence.
+pub const MAX_RING: usize = 4096;
+
+/// The most cells (rows × width) one padded table may have: 2^25, about
+/// 170 MB of indices and mask.
+pub const MAX_TABLE_CELLS: usize = 1 << 25;
+
+/// Checks, before anything is allocated for them, that the neighbourhoods
+/// `sample` lists stay within [`MAX_RING`] and its tables within
+/// [`MAX_TABLE_CELLS`]; the errors name the vertex and the table size.
+fn check_work(graph: &Graph, s: usize, r: usize) -> Result<()> {
+    let n = graph.len();
+    let mut widest = (0, 0);
+    for v in 0..n {
+        for radius in [r, 2 * s - 1] {
+            let size = graph.ring_size_capped(v, radius, MAX_RING).ok_or_else(|| {
+                Error::Invalid(format!(
+                    "graph sampling: vertex {v} (valence {}) has more than {MAX_RING} vertices within {radius} edges; \
+                     the padded neighbourhood tables (Appendix A.1.1) would grow with the square of its valence: \
+                     split the fan around it (for example triangulate a large polygon into strips)",
+                    graph.degree(v)
+                ))
+            })?;
+            if radius == r && size > widest.1 {
+                widest = (v, size);
+            }
+        }
+    }
+    let cells = n as u128 * widest.1 as u128;
+    if cells > MAX_TABLE_CELLS as u128 {
+        return Err(Error::Invalid(format!(
+            "graph sampling: an up-sampling table of {n} rows x {} entries ({cells} cells, at most {MAX_TABLE_CELLS}); \
+             vertex {} has the widest neighbourhood (valence {})",
+            widest.1,
+            widest.0,
+            graph.degree(widest.0)
+        )));
+    }
+    Ok(())
+}
+
 /// Samples `graph` with stride `s ≥ 1` and kernel radius `r`, keeping the
-/// manual `seeds` (which must be pairwise at least `s` apart).
+/// manual `seeds` (which must be pairwise at least `s` apart). Errors
+/// before allocating when a neighbourhood or table would exceed
+/// [`MAX_RING`] or [`MAX_TABLE_CELLS`].
 pub fn sample(graph: &Graph, s: usize, r: usize, seeds: &[usize]) -> Result<Sampling> {
     let n = graph.len();
     if s == 0 {
@@ -100,6 +147,7 @@ pub fn sample(graph: &Graph, s: usize, r: usize, seeds: &[usize]) -> Result<Samp
             "graph sampling: seed {bad} is not a vertex (0..{n})"
         )));
     }
+    check_work(graph, s, r)?;
     // covered[v]: v lies within s − 1 of a kept vertex.
     let mut covered = vec![false; n];
     let mut keep = vec![false; n];

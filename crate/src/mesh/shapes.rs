@@ -209,31 +209,34 @@ pub fn deform(rest: &[[f32; 3]], rng: &mut Rng) -> Vec<[f32; 3]> {
     if rest.is_empty() {
         return Vec::new();
     }
-    let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);
+    // in double precision: squared distances of meshes at 1e20 overflow
+    // float32, and at 1e-30 they underflow
+    let (mut lo, mut hi) = ([f64::MAX; 3], [f64::MIN; 3]);
     for p in rest {
         for c in 0..3 {
-            lo[c] = lo[c].min(p[c]);
-            hi[c] = hi[c].max(p[c]);
+            lo[c] = lo[c].min(p[c] as f64);
+            hi[c] = hi[c].max(p[c] as f64);
         }
     }
     let size = (0..3)
         .map(|c| hi[c] - lo[c])
-        .fold(0.0f32, f32::max)
-        .max(1e-6);
-    let height = (hi[1] - lo[1]).max(1e-6);
+        .fold(0.0f64, f64::max)
+        .max(f64::MIN_POSITIVE);
+    let height = (hi[1] - lo[1]).max(size * 1e-6);
     let center = [(lo[0] + hi[0]) / 2.0, lo[1], (lo[2] + hi[2]) / 2.0];
-    let bend = rng.range(-0.7, 0.7) as f32;
-    let twist = rng.range(-1.0, 1.0) as f32;
-    let bumps: Vec<([f32; 3], [f32; 3])> = (0..3)
+    let bend = rng.range(-0.7, 0.7);
+    let twist = rng.range(-1.0, 1.0);
+    let bumps: Vec<([f64; 3], [f64; 3])> = (0..3)
         .map(|_| {
-            let at = rest[rng.below(rest.len())];
-            let d = [0, 1, 2].map(|_| rng.range(-0.15, 0.15) as f32 * size);
+            let at = rest[rng.below(rest.len())].map(|v| v as f64);
+            let d = [0, 1, 2].map(|_| rng.range(-0.15, 0.15) * size);
             (at, d)
         })
         .collect();
-    let r2 = (0.3 * size) * (0.3 * size);
+    let r = 0.3 * size;
     rest.iter()
         .map(|p| {
+            let p = p.map(|v| v as f64);
             let mut q = [p[0] - center[0], p[1] - center[1], p[2] - center[2]];
             let s = q[1] / height;
             // twist about y
@@ -244,13 +247,14 @@ pub fn deform(rest: &[[f32; 3]], rng: &mut Rng) -> Vec<[f32; 3]> {
             q = [cb * q[0] - sb * q[1], sb * q[0] + cb * q[1], q[2]];
             let mut out = [q[0] + center[0], q[1] + center[1], q[2] + center[2]];
             for (at, d) in &bumps {
-                let dist2: f32 = (0..3).map(|c| (p[c] - at[c]).powi(2)).sum();
-                let w = (-dist2 / r2).exp();
+                // distances over the bump radius first: no square overflows
+                let dist2: f64 = (0..3).map(|c| ((p[c] - at[c]) / r).powi(2)).sum();
+                let w = (-dist2).exp();
                 for c in 0..3 {
                     out[c] += w * d[c];
                 }
             }
-            out
+            out.map(|v| v as f32)
         })
         .collect()
 }

@@ -31,23 +31,26 @@ impl Params {
     /// down to at most 12 latent vertices, so the number of levels follows
     /// the vertex count (about log2 of it over 2: each level keeps roughly a
     /// quarter of a surface's vertices).
+    ///
+    /// The diagonal is computed in double precision: in float32 its square
+    /// overflows for coordinates near 1e20 and underflows near 1e-20.
     pub fn for_mesh(positions: &[[f32; 3]]) -> Params {
-        let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
         for p in positions {
             for a in 0..3 {
-                lo[a] = lo[a].min(p[a]);
-                hi[a] = hi[a].max(p[a]);
+                lo[a] = lo[a].min(p[a] as f64);
+                hi[a] = hi[a].max(p[a] as f64);
             }
         }
-        let diag = (0..3).map(|a| (hi[a] - lo[a]).powi(2)).sum::<f32>().sqrt();
+        let diag = (0..3).map(|a| (hi[a] - lo[a]).powi(2)).sum::<f64>().sqrt();
         let diag = if diag.is_finite() && diag > 0.0 {
             diag
         } else {
             1.0
         };
         Params {
-            eps: 1e-6 * diag,
-            near: 0.01 * diag,
+            eps: (1e-6 * diag) as f32,
+            near: (0.01 * diag) as f32,
             stride: 2,
             radius: 2,
             min_vertices: 12,
@@ -256,6 +259,31 @@ impl Topology {
     /// vertex (in [`Topology::latent_vertices`] order) by graph distance.
     pub fn latent_regions(&self) -> Vec<usize> {
         self.graph.nearest_source(&self.latent_vertices())
+    }
+
+    /// Welded positions of a pose whose vertices welded together in the
+    /// template must still coincide: an error names the first two that a
+    /// pose puts more than `tol` apart (a user's posed OBJ that splits a
+    /// seam the template welds), instead of keeping one of them.
+    pub fn weld_pose_strict(&self, pose: &[[f32; 3]], tol: f32) -> Result<Vec<[f32; 3]>> {
+        let out = self.weld_pose(pose)?;
+        let mut first = vec![usize::MAX; self.rest.len()];
+        for (v, &w) in self.weld_map.iter().enumerate() {
+            if first[w] == usize::MAX {
+                first[w] = v;
+                continue;
+            }
+            let (a, b) = (pose[first[w]], pose[v]);
+            let d = ((0..3).map(|i| ((a[i] - b[i]) as f64).powi(2)).sum::<f64>()).sqrt();
+            if d > tol as f64 {
+                return Err(Error::Invalid(format!(
+                    "vertices {} and {} (1-based, as in an OBJ) are one vertex in the template, but this pose puts them {d:.3e} apart (more than {tol:.1e})",
+                    first[w] + 1,
+                    v + 1
+                )));
+            }
+        }
+        Ok(out)
     }
 
     /// Welded positions of a rig pose.

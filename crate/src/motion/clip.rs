@@ -42,20 +42,74 @@ impl ClipKeys {
     }
 }
 
-/// Checks that `clip` has `skeleton`'s joints and channel layout.
+/// How far a clip's bone may be from the model's before the clip counts as
+/// another skeleton: its length within this factor of the model's either
+/// way. CMU conversions of the model's skeleton share its offsets exactly;
+/// the networks were trained on those lengths.
+pub const BONE_LENGTH_FACTOR: f64 = 1.5;
+
+/// Checks that `clip` has `skeleton`'s joints and channel layout (names,
+/// parents, channels in order) and bones of about its lengths (finite, within
+/// [`BONE_LENGTH_FACTOR`] of the model's), naming the first joint that differs.
 pub fn check_skeleton(clip: &Bvh, skeleton: &Bvh) -> Result<()> {
-    let same = clip.joints.len() == skeleton.joints.len()
-        && clip
-            .joints
-            .iter()
-            .zip(&skeleton.joints)
-            .all(|(a, b)| a.name == b.name && a.channels == b.channels && a.parent == b.parent);
-    if !same {
-        return Err(Error::Invalid(format!(
-            "the clip's skeleton ({} joints) is not the model's ({} joints, the thesis' CMU skeleton)",
-            clip.joints.len(),
+    let other = |why: String| {
+        Err(Error::Invalid(format!(
+            "the clip's skeleton is not the model's (the thesis' CMU skeleton, {} joints): {why}",
             skeleton.joints.len()
-        )));
+        )))
+    };
+    if clip.joints.len() != skeleton.joints.len() {
+        return other(format!(
+            "it has {} joints (End Sites included)",
+            clip.joints.len()
+        ));
+    }
+    let fmt = |c: &[crate::skeleton::bvh::Channel]| {
+        c.iter()
+            .map(|c| format!("{c:?}"))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    for (a, b) in clip.joints.iter().zip(&skeleton.joints) {
+        if a.name != b.name {
+            return other(format!(
+                "joint '{}' where the model has '{}'",
+                a.name, b.name
+            ));
+        }
+        if a.parent != b.parent {
+            return other(format!("joint '{}' has another parent", a.name));
+        }
+        if a.channels != b.channels {
+            return other(format!(
+                "joint '{}' has channels [{}], the model's are [{}]",
+                a.name,
+                fmt(&a.channels),
+                fmt(&b.channels)
+            ));
+        }
+        let len = |o: &[f32; 3]| {
+            let v = o.map(|x| x as f64);
+            (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+        };
+        let (la, lb) = (len(&a.offset), len(&b.offset));
+        if !la.is_finite() {
+            return other(format!("joint '{}' has a non-finite offset", a.name));
+        }
+        let off = if a.parent.is_none() {
+            // the root's offset only moves the whole motion
+            la > 1e5
+        } else if lb > 1e-6 {
+            la * BONE_LENGTH_FACTOR < lb || la > lb * BONE_LENGTH_FACTOR
+        } else {
+            la > 1e-3
+        };
+        if off {
+            return other(format!(
+                "joint '{}' is {la:.4} units from its parent, the model's {lb:.4}",
+                a.name
+            ));
+        }
     }
     Ok(())
 }

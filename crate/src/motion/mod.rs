@@ -389,8 +389,13 @@ pub fn dna_pose(k: &Keyframe) -> Vec<f32> {
     out
 }
 
+/// The largest key coordinate taken (BVH units, about centimetres: 10 km).
+/// Past it the networks' inputs leave every range they were trained on and
+/// float32 arithmetic loses the motion's detail.
+pub const MAX_KEY_COORD: f32 = 1e6;
+
 /// Checks a key set against a length and a joint count: sorted, unique,
-/// inside the length, finite, the right size.
+/// inside the length, finite, within [`MAX_KEY_COORD`], the right size.
 pub fn validate_keys(keys: &[Keyframe], frames: usize, joints: usize) -> Result<()> {
     check_frames(frames)?;
     if keys.is_empty() {
@@ -425,6 +430,12 @@ pub fn validate_keys(keys: &[Keyframe], frames: usize, joints: usize) -> Result<
             });
         }
         crate::error::check_finite(&format!("keyframe {i} positions"), &k.positions)?;
+        if let Some(v) = k.positions.iter().find(|v| v.abs() > MAX_KEY_COORD) {
+            return Err(Error::Invalid(format!(
+                "keyframe {i} (frame {}): coordinate {v:e} is beyond ±{MAX_KEY_COORD:e} units (BVH units, about centimetres)",
+                k.frame
+            )));
+        }
         if let Some(r) = &k.rotations {
             if r.len() != joints {
                 return Err(Error::Shape {

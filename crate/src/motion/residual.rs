@@ -212,6 +212,17 @@ impl ResidualModel {
                 "variation {variation} is outside [0, 2] (1: the network as trained, 0: plain interpolation)"
             )));
         }
+        super::validate_keys(keys, frames, self.template.joints.len())?;
+        if let Some(i) = keys
+            .iter()
+            .position(|k| k.rotations.is_none() || !k.mask.iter().all(|m| *m))
+        {
+            return Err(Error::Invalid(format!(
+                "the residual network takes whole-pose keys only; key {i} (frame {}) gives part of a pose \
+                 (root-only and 2-D keys go to the generator: method model or generator)",
+                keys[i].frame
+            )));
+        }
         let base = slerp_lerp(keys, frames)?;
         if base.rotations.first().map(|r| r.len()) != Some(self.template.joints.len()) {
             return Err(Error::Shape {

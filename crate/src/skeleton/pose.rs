@@ -56,6 +56,62 @@ pub fn rotation_order(bvh: &Bvh, joint: usize) -> Option<EulerOrder> {
         .flatten()
 }
 
+/// The axes of a joint's rotation channels, in file order.
+fn rotation_axes(joint: &super::bvh::Joint) -> Vec<Axis> {
+    joint
+        .channels
+        .iter()
+        .filter(|c| c.is_rotation())
+        .map(|c| [Axis::X, Axis::Y, Axis::Z][c.axis()])
+        .collect()
+}
+
+/// The angle (radians) of `m`'s twist about one coordinate axis: its
+/// rotation about that axis with the swing about the other two removed
+/// (exact when `m` turns about that axis alone).
+fn twist_angle(m: &crate::rotation::Mat3<f64>, axis: Axis) -> f64 {
+    let q = crate::rotation::quat::matrix_to_quat(m); // [x, y, z, w]
+    let a = 2.0 * q[axis as usize].atan2(q[3]);
+    if a > std::f64::consts::PI {
+        a - 2.0 * std::f64::consts::PI
+    } else if a < -std::f64::consts::PI {
+        a + 2.0 * std::f64::consts::PI
+    } else {
+        a
+    }
+}
+
+/// Angles (radians) for a joint whose rotation channels are not one of the
+/// twelve three-axis orders: one channel or two (the parser refuses a
+/// repeated channel). Two axes `a, b` are the first two angles of the
+/// intrinsic order `a b c` (`c` the third axis): exact for every rotation
+/// the two channels can express. Otherwise each channel in turn takes the
+/// twist about its axis of what the channels before it left: exact for one
+/// channel, the closest turn about it for any other rotation.
+fn partial_angles(axes: &[Axis], m: &crate::rotation::Mat3<f64>) -> Vec<f64> {
+    if let [a, b] = axes {
+        if a != b {
+            let c = [Axis::X, Axis::Y, Axis::Z]
+                .into_iter()
+                .find(|c| c != a && c != b)
+                .unwrap_or(Axis::X);
+            if let Ok(order) = EulerOrder::new([*a, *b, c], Frame::Intrinsic) {
+                let e = matrix_to_euler(m, order);
+                return vec![e[0], e[1]];
+            }
+        }
+    }
+    let mut rest = *m;
+    axes.iter()
+        .map(|&axis| {
+            let angle = twist_angle(&rest, axis);
+            let undo = crate::rotation::euler::axis_rotation(axis, -angle);
+            rest = crate::rotation::mul(&undo, &rest);
+            angle
+        })
+        .collect()
+}
+
 /// [`rotation_order`] of every joint.
 pub fn rotation_orders(bvh: &Bvh) -> Vec<Option<EulerOrder>> {
     (0..bvh.joints.len())
@@ -158,8 +214,8 @@ impl Pose {
     /// are `translation − offset`; joints with three rotation channels get
     /// the Euler angles of their rotation in their own order (degrees).
     /// Joints with one or two rotation channels cannot hold every rotation:
-    /// their rotation channels are written as 0 (no BVH this project reads
-    /// or writes has them).
+    /// their rotation channels get the angles that express the rotation
+    /// about those axes (`partial_angles`).
     pub fn to_row(&self, bvh: &Bvh) -> Result<Vec<f32>> {
         self.to_row_with_orders(bvh, &rotation_orders(bvh))
     }
@@ -181,9 +237,10 @@ impl Pose {
         }
         let mut row = vec![0.0f32; bvh.channel_count()];
         for (j, joint) in bvh.joints.iter().enumerate() {
+            let m = from_glam_f64(&self.rotations[j]);
             let angles = match orders.get(j).copied().flatten() {
-                Some(order) => matrix_to_euler(&from_glam_f64(&self.rotations[j]), order),
-                None => [0.0; 3],
+                Some(order) => matrix_to_euler(&m, order).to_vec(),
+                None => partial_angles(&rotation_axes(joint), &m),
             };
             let mut ri = 0;
             for (k, ch) in joint.channels.iter().enumerate() {
@@ -236,5 +293,51 @@ mod tests {
         row[4] = f32::NAN;
         assert!(Pose::from_row(&b, &row).is_err());
         assert!(Pose::of_frame(&b, 1).is_err());
+    }
+
+    /// A skeleton whose knee has one rotation channel and whose elbow has
+    /// two (common in exported rigs), and a frame with angles on both.
+    fn partial_rig(channels_knee: &str, channels_elbow: &str, values: &str) -> Bvh {
+        let text = format!(
+            "HIERARCHY\nROOT hips\n{{\n  OFFSET 0 0 0\n  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n  JOINT knee\n  {{\n    OFFSET 0 -10 0\n    {channels_knee}\n    End Site\n    {{\n      OFFSET 0 -10 0\n    }}\n  }}\n  JOINT elbow\n  {{\n    OFFSET 10 0 0\n    {channels_elbow}\n    End Site\n    {{\n      OFFSET 10 0 0\n    }}\n  }}\n}}\nMOTION\nFrames: 1\nFrame Time: 0.0166667\n{values}\n"
+        );
+        Bvh::parse(&text).unwrap()
+    }
+
+    #[test]
+    fn joints_with_one_or_two_rotation_channels_keep_their_angles() {
+        for (knee, elbow, values) in [
+            (
+                "CHANNELS 1 Xrotation",
+                "CHANNELS 2 Zrotation Xrotation",
+                "1 2 3 10 20 30 -45 25 -60",
+            ),
+            (
+                "CHANNELS 1 Yrotation",
+                "CHANNELS 2 Yrotation Zrotation",
+                "0 0 0 0 0 0 170 -35 80",
+            ),
+            (
+                "CHANNELS 1 Zrotation",
+                "CHANNELS 2 Xrotation Zrotation",
+                "0 0 0 5 5 5 -120 30 40",
+            ),
+        ] {
+            let b = partial_rig(knee, elbow, values);
+            let p = Pose::of_frame(&b, 0).unwrap();
+            let row = p.to_row(&b).unwrap();
+            // the same rotations back, and the same angles
+            let q = Pose::from_row(&b, &row).unwrap();
+            for (a, w) in q.rotations.iter().zip(&p.rotations) {
+                assert!(a.abs_diff_eq(*w, 1e-5), "{elbow}: {row:?}");
+            }
+            for (a, w) in row.iter().zip(b.frame(0)) {
+                assert!(
+                    (a - w).abs() < 1e-3,
+                    "{knee} / {elbow}: {row:?} vs {:?}",
+                    b.frame(0)
+                );
+            }
+        }
     }
 }

@@ -67,11 +67,12 @@ impl GpuHairDecoder {
         smooth_sigma: f32,
         curl_threshold: f32,
     ) -> Result<js_sys::Promise, JsError> {
-        if count == 0 || count > 200_000 {
-            return Err(JsError::new(&format!(
-                "hair: {count} strands requested (1..=200000)"
-            )));
-        }
+        let opts = crate::hair::Reconstruct {
+            strands: count,
+            smooth_sigma,
+            curl_threshold,
+        };
+        opts.check().map_err(js_err)?;
         let uv = crate::hair::HairModel::strand_uv(count);
         let feats =
             crate::hair::upsample::upsample(features, self.channels, crate::hair::GRID, &uv)
@@ -81,11 +82,6 @@ impl GpuHairDecoder {
             .dispatch(&self.device, &self.queue, &feats, uv.len())
             .map_err(js_err)?;
         let decoding = self.decoding;
-        let opts = crate::hair::Reconstruct {
-            strands: count,
-            smooth_sigma,
-            curl_threshold,
-        };
         Ok(wasm_bindgen_futures::future_to_promise(async move {
             let err = |e: crate::Error| JsValue::from(JsError::new(&e.to_string()));
             gpu::map_read(pending.readback.slice(..))

@@ -24,9 +24,37 @@ impl From<&str> for CliError {
     }
 }
 
-/// Prints the whole output at once; a closed pipe (e.g. `| head`) is not an error.
-pub fn emit(s: &str) {
-    let _ = std::io::stdout().lock().write_all(s.as_bytes());
+/// Prints the whole output at once. A closed pipe (e.g. `| head`) is not an
+/// error; any other failure to write (a full disk, `> /dev/full`) is.
+pub fn emit(s: &str) -> Result<(), String> {
+    let mut out = std::io::stdout().lock();
+    match out.write_all(s.as_bytes()).and_then(|_| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(format!("standard output: {e}"))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// The value after option `args[i]`: an error when there is none or when
+/// the next word is another option (`--from-bvh -o x.bvh` must not read a
+/// file named `-o`). A negative number is a value.
+pub fn value_of(args: &[&str], i: usize) -> Result<String, String> {
+    match args.get(i + 1) {
+        None => Err(format!("{} needs a value", args[i])),
+        Some(v) if is_option(v) => {
+            Err(format!("{} needs a value, found the option '{v}'", args[i]))
+        }
+        Some(v) => Ok(v.to_string()),
+    }
+}
+
+/// Whether a word is an option name (`-o`, `--out`), not a value such as
+/// `-1` or `-0.5`.
+fn is_option(v: &str) -> bool {
+    v.starts_with('-')
+        && v.len() > 1
+        && !v[1..].starts_with(|c: char| c.is_ascii_digit() || c == '.')
 }
 
 /// Parses `--key value` pairs against the allowed keys.
@@ -41,10 +69,8 @@ pub fn options<'a>(
         if !rest[i].starts_with("--") || !allowed.contains(&key) {
             return Err(format!("unknown option '{}'\n{USAGE}", rest[i]));
         }
-        let val = rest
-            .get(i + 1)
-            .ok_or_else(|| format!("{} needs a value", rest[i]))?;
-        out.insert(key.to_string(), *val);
+        value_of(rest, i)?;
+        out.insert(key.to_string(), rest[i + 1]);
         i += 2;
     }
     Ok(out)

@@ -108,8 +108,7 @@ fn print_info(path: &str) -> Result<(), String> {
             let _ = writeln!(o, "RC-range violations: not computed ({e})");
         }
     }
-    emit(&o);
-    Ok(())
+    emit(&o)
 }
 
 fn print_positions(path: &str, frame: usize) -> Result<(), String> {
@@ -132,8 +131,7 @@ fn print_positions(path: &str, frame: usize) -> Result<(), String> {
             p[3 * i + 2]
         );
     }
-    emit(&o);
-    Ok(())
+    emit(&o)
 }
 
 fn write_f32(path: &str, v: &[f32]) -> Result<(), String> {

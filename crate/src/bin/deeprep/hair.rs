@@ -38,7 +38,8 @@ fn hair_preview(rest: &[&str]) -> Result<(), String> {
     let r = hair
         .render(&body, yaw, 0.0, size)
         .map_err(|e| e.to_string())?;
-    std::fs::write(out, ppm_of(&r.image, size)).map_err(|e| format!("{out}: {e}"))?;
+    let ppm = deeprep::hair::ppm::write(&r.image, size).map_err(|e| e.to_string())?;
+    std::fs::write(out, ppm).map_err(|e| format!("{out}: {e}"))?;
     let vis = r.visible.iter().filter(|&&v| v).count();
     eprintln!(
         "{} (seed {}): {} of {} samples visible; wrote {out}",
@@ -50,73 +51,11 @@ fn hair_preview(rest: &[&str]) -> Result<(), String> {
     Ok(())
 }
 
-/// A 3 × size × size image in [0, 1] as binary PPM (channels as RGB).
-fn ppm_of(image: &[f32], size: usize) -> Vec<u8> {
-    let plane = size * size;
-    let mut ppm = format!("P6\n{size} {size}\n255\n").into_bytes();
-    for i in 0..plane {
-        for c in 0..3 {
-            ppm.push((image[c * plane + i].clamp(0.0, 1.0) * 255.0).round() as u8);
-        }
-    }
-    ppm
-}
-
 /// The network input from a 256 × 256 binary PPM such as `hair preview`
-/// writes (orientation in red and green, segmentation in blue).
+/// writes (`hair::ppm`).
 fn image_of_ppm(path: &str) -> Result<Vec<f32>, String> {
-    const SIDE: usize = 256;
     let bytes = std::fs::read(path).map_err(|e| format!("{path}: {e}"))?;
-    // header: "P6", width, height, maxval, each after whitespace; then one byte
-    let mut fields = Vec::new();
-    let mut i = 0;
-    while fields.len() < 4 {
-        while i < bytes.len() && bytes[i].is_ascii_whitespace() {
-            i += 1;
-        }
-        if i < bytes.len() && bytes[i] == b'#' {
-            while i < bytes.len() && bytes[i] != b'\n' {
-                i += 1;
-            }
-            continue;
-        }
-        let s = i;
-        while i < bytes.len() && !bytes[i].is_ascii_whitespace() && i - s < 16 {
-            i += 1;
-        }
-        if s == i {
-            return Err(format!("{path}: not a binary PPM (P6) image"));
-        }
-        fields.push(String::from_utf8_lossy(&bytes[s..i]).to_string());
-    }
-    if fields[0] != "P6" || fields[3] != "255" {
-        return Err(format!(
-            "{path}: expected a binary PPM (P6) with maxval 255, found '{}' and maxval '{}'",
-            fields[0], fields[3]
-        ));
-    }
-    if fields[1] != SIDE.to_string() || fields[2] != SIDE.to_string() {
-        return Err(format!(
-            "{path}: HairNet takes a {SIDE} x {SIDE} orientation image, found {} x {}",
-            fields[1], fields[2]
-        ));
-    }
-    let data = &bytes[(i + 1).min(bytes.len())..];
-    let plane = SIDE * SIDE;
-    if data.len() != 3 * plane {
-        return Err(format!(
-            "{path}: {SIDE} x {SIDE} RGB needs {} pixel bytes, found {}",
-            3 * plane,
-            data.len()
-        ));
-    }
-    let mut image = vec![0.0f32; 3 * plane];
-    for (p, px) in data.chunks_exact(3).enumerate() {
-        for c in 0..3 {
-            image[c * plane + p] = px[c] as f32 / 255.0;
-        }
-    }
-    Ok(image)
+    deeprep::hair::ppm::read_network_input(&bytes).map_err(|e| format!("{path}: {e}"))
 }
 
 fn hair_reconstruct(rest: &[&str]) -> Result<(), String> {
@@ -204,7 +143,7 @@ fn hair_reconstruct(rest: &[&str]) -> Result<(), String> {
         "ms": ms,
         "out": out,
     });
-    super::args::emit(&format!("{summary}\n"));
+    super::args::emit(&format!("{summary}\n"))?;
     Ok(())
 }
 
@@ -250,7 +189,8 @@ fn hair_dataset(rest: &[&str]) -> Result<(), String> {
             t0.elapsed().as_secs_f32()
         )
     })
-    .map_err(|e| e.to_string())?;
+    // the library names the files by their suffix after "PREFIX"
+    .map_err(|e| e.to_string().replace("PREFIX.", &format!("{out}.")))?;
     std::fs::write(format!("{out}.json"), meta.to_string())
         .map_err(|e| format!("{out}.json: {e}"))?;
     eprintln!(

@@ -45,11 +45,7 @@ fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
     };
     let mut i = 0;
     while i < args.len() {
-        let next = |i: usize| {
-            args.get(i + 1)
-                .map(|s| s.to_string())
-                .ok_or_else(|| format!("{} needs a value", args[i]))
-        };
+        let next = |i: usize| super::args::value_of(args, i);
         match args[i] {
             "--from-bvh" => o.from_bvh = Some(next(i)?),
             "--keys" => o.keys = Some(next(i)?),
@@ -265,6 +261,9 @@ fn dna_poses(
         ),
         None => {
             file = load(spec)?;
+            let tpl = model_skeleton(o)?;
+            deeprep::motion::clip::check_skeleton(&file, &tpl)
+                .map_err(|e| format!("--dna {spec}: {e}"))?;
             let picked = match o.seed {
                 Some(seed) => deeprep::motion::dna::pick_from_clip(&file, out_frames, seed)
                     .map_err(|e| format!("--dna {spec}: {e}"))?,
@@ -287,6 +286,21 @@ fn dna_poses(
         .map(Some)
 }
 
+/// Whether `--method` runs a network (which reads the model's skeleton only).
+fn uses_network(method: &str) -> bool {
+    matches!(method, "model" | "generator" | "residual")
+}
+
+/// The networks' skeleton (the generator's manifest; the residual
+/// network's is the same).
+fn model_skeleton(o: &Opts) -> Result<deeprep::skeleton::Bvh, String> {
+    let p = std::path::Path::new(&o.models).join("tween_generator.manifest.json");
+    let text = std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))?;
+    deeprep::motion::manifest::parse(&text)
+        .map(|m| m.template)
+        .map_err(|e| format!("{}: {e}", p.display()))
+}
+
 fn inbetween(args: &[&str]) -> Result<(), String> {
     let o = parse_inbetween(args)?;
     if o.skeleton {
@@ -294,11 +308,27 @@ fn inbetween(args: &[&str]) -> Result<(), String> {
         let m = deeprep::motion::pipeline::TweenModels::load_dir(std::path::Path::new(&o.models))
             .map_err(|e| e.to_string())?;
         let names: Vec<&str> = m.template.joints.iter().map(|j| j.name.as_str()).collect();
-        super::args::emit(&(names.join("\n") + "\n"));
+        super::args::emit(&(names.join("\n") + "\n"))?;
         return Ok(());
     }
     let kind = deeprep::motion::keys::KeyKind::parse(&o.key_kind)
         .map_err(|e| format!("--key-kind: {e}"))?;
+    if o.from_bvh.is_some() {
+        if let Some(k) = &o.keys_json {
+            return Err(format!(
+                "a keys file ({k}) and --from-bvh are two sources of keys: give one"
+            ));
+        }
+        if o.frames.is_some() {
+            return Err(
+                "--frames is for a keys file; with --from-bvh the keys' span in the clip sets the length"
+                    .into(),
+            );
+        }
+        if o.out.is_none() {
+            return Err("-o OUT.bvh is required with --from-bvh".into());
+        }
+    }
     if kind != deeprep::motion::keys::KeyKind::Pose && o.from_bvh.is_none() {
         return Err(
             "--key-kind takes keys from a --from-bvh clip; a keys file says each key's kind".into(),
@@ -306,6 +336,12 @@ fn inbetween(args: &[&str]) -> Result<(), String> {
     }
     if let Some(clip) = &o.from_bvh {
         let b = load(clip)?;
+        if uses_network(&o.method) {
+            let tpl = model_skeleton(&o)?;
+            deeprep::motion::clip::check_skeleton(&b, &tpl).map_err(|e| {
+                format!("{clip}: {e}; --method slerp or zerovel work on any skeleton")
+            })?;
+        }
         let list = o.keys.as_ref().ok_or("--from-bvh needs --keys F1,F2,...")?;
         let frames: Vec<usize> = list
             .split(',')
@@ -326,7 +362,7 @@ fn inbetween(args: &[&str]) -> Result<(), String> {
         let dna = dna_poses(&o, Some(&b), ck.frames())?;
         let (motion, info) = synthesize(&o, &ck.keys, ck.frames(), dna)?;
         let out = deeprep::motion::clip::splice(&b, &ck, &motion).map_err(|e| e.to_string())?;
-        let path = o.out.ok_or("-o OUT.bvh is required")?;
+        let path = o.out.ok_or("-o OUT.bvh is required with --from-bvh")?;
         std::fs::write(&path, out.write()).map_err(|e| format!("{path}: {e}"))?;
         let (first, last) = ck.span();
         eprintln!(

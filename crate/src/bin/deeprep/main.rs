@@ -193,8 +193,13 @@ fn help(args: &[String]) -> String {
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     if args.iter().any(|a| a == "--help" || a == "-h") {
-        println!("{}", help(&args));
-        return ExitCode::SUCCESS;
+        return match args::emit(&format!("{}\n", help(&args))) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("deeprep: {e}");
+                ExitCode::from(2)
+            }
+        };
     }
     match run(&args) {
         Ok(()) => ExitCode::SUCCESS,

@@ -63,6 +63,7 @@ pub fn deform(rest: &[&str]) -> Result<(), CliError> {
         return Err(format!("--count must be 1..={MAX_CLIP_POSES}, got {count}").into());
     }
     let (_, t) = any_topology(file)?;
+    PoseSet::check_size(count, t.rest.len()).map_err(|e| format!("--count {count}: {e}"))?;
     let mut set = PoseSet::new(t.rest.len());
     let mut rng = deeprep::rng::Rng::new(seed);
     for i in 0..count {
@@ -109,6 +110,11 @@ pub fn pack(rest: &[&str]) -> Result<(), CliError> {
     )
     .map_err(|e| format!("{template}: {e}"))?;
     let faces = read(template)?.triangles;
+    PoseSet::check_size(files.len() - 1, t.topology.rest.len()).map_err(|e| e.to_string())?;
+    // welded template vertices must stay together in every pose: within the
+    // template's own weld distance (Params::for_mesh, 1e-6 of its diagonal),
+    // widened to 1e-4 for rounding in the user's exporter
+    let tol = 100.0 * deeprep::mesh::Params::for_mesh(&t.topology.rest).eps;
     let mut set = PoseSet::new(t.topology.rest.len());
     for (i, p) in files[1..].iter().enumerate() {
         let m = read(p)?;
@@ -117,7 +123,7 @@ pub fn pack(rest: &[&str]) -> Result<(), CliError> {
         }
         let welded = t
             .topology
-            .weld_pose(&m.positions)
+            .weld_pose_strict(&m.positions, tol)
             .map_err(|e| format!("{p}: {e}"))?;
         set.push(
             &welded,
@@ -136,8 +142,10 @@ pub fn pack(rest: &[&str]) -> Result<(), CliError> {
 }
 
 fn write_set(set: &deeprep::mesh::files::PoseSet, out: &str) -> Result<(), String> {
-    std::fs::write(format!("{out}.f32"), set.data_bytes())
-        .map_err(|e| format!("{out}.f32: {e}"))?;
+    let path = format!("{out}.f32");
+    std::fs::File::create(&path)
+        .and_then(|f| set.write_data(&mut std::io::BufWriter::new(f)))
+        .map_err(|e| format!("{path}: {e}"))?;
     std::fs::write(format!("{out}.json"), set.meta_json()).map_err(|e| format!("{out}.json: {e}"))
 }
 
@@ -190,9 +198,7 @@ fn mesh_poses(path: &str, rest: &[&str]) -> Result<(), String> {
         (None, 30.0f32, 0usize, 1u64, 0usize);
     let mut i = 0;
     while i < rest.len() {
-        let val = rest
-            .get(i + 1)
-            .ok_or_else(|| format!("{} needs a value", rest[i]))?;
+        let val = &super::args::value_of(rest, i)?;
         match rest[i] {
             "--out" => out = Some(val.to_string()),
             "--fps" => {
@@ -235,16 +241,28 @@ fn mesh_poses(path: &str, rest: &[&str]) -> Result<(), String> {
     // pose with it; the subdivided rest mesh is written as PREFIX.obj
     let (mut positions, mut triangles, mut steps) =
         (t.rest.clone(), t.triangles.clone(), Vec::new());
+    // every pose the set will hold, counted before any is made
+    let mut poses = random;
+    for k in 0..rig.animations.len() {
+        poses += rig.clip_sample_count(k, fps).map_err(|e| e.to_string())?;
+    }
     for _ in 0..subdiv {
         let (p, tr, parents) =
             deeprep::mesh::shapes::subdivide(&positions, &triangles).map_err(|e| e.to_string())?;
         (positions, triangles) = (p, tr);
         steps.push(parents);
     }
+    deeprep::mesh::files::PoseSet::check_size(poses, positions.len()).map_err(|e| {
+        format!("--fps {fps}, --random {random} and --subdivide {subdiv} give {poses} poses: {e}")
+    })?;
     if subdiv > 0 {
         // the OBJ's own topology must keep this vertex order (no two vertices welded)
-        let check =
-            deeprep::mesh::Topology::of_mesh(&positions, &triangles).map_err(|e| e.to_string())?;
+        let check = deeprep::mesh::Topology::of_mesh(&positions, &triangles).map_err(|e| {
+            format!(
+                "--subdivide {subdiv}: the subdivided mesh ({} vertices) has no topology for the autoencoder ({e}); use a smaller --subdivide",
+                positions.len()
+            )
+        })?;
         if check.weld_map.iter().enumerate().any(|(i, &w)| i != w) {
             return Err("--subdivide: the subdivided mesh welds some vertices together".into());
         }
