@@ -1033,3 +1033,42 @@ fn a_model_trained_on_another_template_runs_on_it_and_only_on_it() {
         .to_string();
     assert!(e.contains("36 vertices") && e.contains("tet.obj"), "{e}");
 }
+
+/// Issue 49: the mesh template's numeric arguments (what `MeshLab`'s
+/// `clipPose` and `randomPose` pass) follow `error::check_option`'s rule.
+#[test]
+fn mesh_template_numbers_are_checked() {
+    let mut s = String::new();
+    for y in 0..4 {
+        for x in 0..4 {
+            s += &format!("v {x} {y} 0\n");
+        }
+    }
+    for y in 0..3 {
+        for x in 0..3 {
+            let a = y * 4 + x + 1;
+            s += &format!(
+                "f {a} {} {}\nf {} {} {}\n",
+                a + 1,
+                a + 4,
+                a + 1,
+                a + 5,
+                a + 4
+            );
+        }
+    }
+    let t = deeprep::mesh::Template::from_obj(&s).unwrap();
+    for v in [f32::NAN, f32::INFINITY, -1.0, 1e30] {
+        let e = t.random_pose(1, v).unwrap_err().to_string();
+        assert!(
+            e.contains("max degrees must be a number in [0, 180]"),
+            "{v}: {e}"
+        );
+        let e = t.clip_pose(0, v).unwrap_err().to_string();
+        assert!(
+            e.contains("time (seconds) must be a number in [0, 86400]"),
+            "{v}: {e}"
+        );
+    }
+    assert_eq!(t.random_pose(1, 30.0).unwrap().len(), 16);
+}

@@ -399,12 +399,17 @@ impl HairModel {
     }
 }
 
+/// The blend weights taken by [`blend_features`] and the mesh codec's
+/// `blend_one`: interpolation in [0, 1], extrapolation up to one step either side.
+pub const BLEND_T: (f64, f64) = (-1.0, 2.0);
+
 /// Fig. B.2's interpolation, in strand-feature space: (1 − t)·a + t·b.
 pub fn blend_features(a: &[f32], b: &[f32], t: f32) -> Result<Vec<f32>> {
-    if a.len() != b.len() || !t.is_finite() {
+    if a.len() != b.len() {
         return Err(Error::Invalid(
-            "hair blend: feature grids differ in size, or t is not finite".into(),
+            "hair blend: the feature grids differ in size".into(),
         ));
     }
+    crate::error::check_option("blend t", t as f64, BLEND_T.0, BLEND_T.1)?;
     Ok(a.iter().zip(b).map(|(x, y)| x + t * (y - x)).collect())
 }

@@ -168,11 +168,12 @@ impl MeshCodec {
     /// towards `b`'s by `t` (0: a, 1: b); the other latent vertices keep `a`'s.
     pub fn blend_one(&self, a: &[f32], b: &[f32], vertex: usize, t: f32) -> Result<Vec<f32>> {
         let (l, c) = self.latent;
-        if a.len() != l * c || b.len() != l * c || vertex >= l || !t.is_finite() {
+        if a.len() != l * c || b.len() != l * c || vertex >= l {
             return Err(Error::Invalid(format!(
-                "blend_one: codes must be {l} × {c}, vertex < {l}, t finite"
+                "blend_one: codes must be {l} × {c}, vertex < {l}"
             )));
         }
+        crate::error::check_option("blend t", t as f64, -1.0, 2.0)?;
         let mut out = a.to_vec();
         for k in 0..c {
             out[vertex * c + k] = a[vertex * c + k] + t * (b[vertex * c + k] - a[vertex * c + k]);

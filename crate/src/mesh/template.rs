@@ -74,6 +74,7 @@ impl Template {
 
     /// Clip `clip` at `time` seconds, welded.
     pub fn clip_pose(&self, clip: usize, time: f32) -> Result<Vec<[f32; 3]>> {
+        crate::error::check_option("time (seconds)", time as f64, 0.0, 86_400.0)?;
         let rig = self
             .rig
             .as_ref()
@@ -86,6 +87,7 @@ impl Template {
     /// a random smooth deformation ([`shapes::deform`], what `deeprep mesh
     /// deform` trains on), `max_degrees` unused.
     pub fn random_pose(&self, seed: u64, max_degrees: f32) -> Result<Vec<[f32; 3]>> {
+        crate::error::check_option("max degrees", max_degrees as f64, 0.0, 180.0)?;
         let mut rng = Rng::new(seed);
         match &self.rig {
             Some(rig) => {

@@ -93,11 +93,7 @@ impl Request {
         }
         validate_keys(&self.keys, self.frames, joints)?;
         let variation = self.variation.unwrap_or(default);
-        if !(0.0..=2.0).contains(&variation) {
-            return Err(Error::Invalid(format!(
-                "variation {variation} is outside [0, 2] (1: the networks as trained, 0: plain interpolation)"
-            )));
-        }
+        check_variation(variation)?;
         for w in self.keys.windows(2) {
             if w[1].frame - w[0].frame > MAX_LONG_GAP {
                 return Err(Error::Invalid(format!(
@@ -387,6 +383,17 @@ pub fn dna_pose(k: &Keyframe) -> Vec<f32> {
         out.extend(v.iter().map(|x| *x as f32));
     }
     out
+}
+
+/// Checks a variation by [`crate::error::check_option`]'s rule: in [0, 2]
+/// (1: the networks as trained, 0: plain interpolation).
+pub fn check_variation(variation: f32) -> Result<()> {
+    crate::error::check_option(
+        "variation (1: the networks as trained, 0: plain interpolation)",
+        variation as f64,
+        0.0,
+        2.0,
+    )
 }
 
 /// The largest key coordinate taken (BVH units, about centimetres: 10 km).

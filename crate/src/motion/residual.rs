@@ -207,11 +207,7 @@ impl ResidualModel {
     /// In-betweens whole-pose keys over `frames` frames. Frames before the
     /// first and after the last key hold those keys, as SLERP+LERP does.
     pub fn synthesize(&self, keys: &[Keyframe], frames: usize, variation: f32) -> Result<Motion> {
-        if !(0.0..=2.0).contains(&variation) {
-            return Err(Error::Invalid(format!(
-                "variation {variation} is outside [0, 2] (1: the network as trained, 0: plain interpolation)"
-            )));
-        }
+        super::check_variation(variation)?;
         super::validate_keys(keys, frames, self.template.joints.len())?;
         if let Some(i) = keys
             .iter()

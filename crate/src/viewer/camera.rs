@@ -60,6 +60,9 @@ impl OrbitCamera {
 
     /// Orbits by `dx`, `dy` radians (yaw, pitch).
     pub fn orbit(&mut self, dx: f32, dy: f32) {
+        if !(dx.is_finite() && dy.is_finite()) {
+            return; // a NaN here would stay in the camera for good
+        }
         self.yaw += dx;
         self.pitch = (self.pitch + dy).clamp(-PITCH_LIMIT, PITCH_LIMIT);
     }
@@ -77,6 +80,9 @@ impl OrbitCamera {
     /// Pans by a screen drag of `dx`, `dy` pixels in a viewport `height`
     /// pixels tall: the point under the cursor at the target's depth follows it.
     pub fn pan(&mut self, dx: f32, dy: f32, height: f32) {
+        if !(dx.is_finite() && dy.is_finite() && height.is_finite()) {
+            return;
+        }
         let per_pixel = 2.0 * self.distance * (self.fov_y / 2.0).tan() / height.max(1.0);
         let fwd = (self.target - self.eye()).normalize();
         let right = fwd.cross(Vec3::Y).normalize();

@@ -10,7 +10,7 @@ fn seed(v: f64) -> Result<u64, JsError> {
         Ok(v as u64)
     } else {
         Err(JsError::new(&format!(
-            "seed: expected a non-negative integer up to 2^53, found {v}"
+            "seed must be an integer in [0, 9007199254740992], found {v}"
         )))
     }
 }

@@ -198,7 +198,7 @@ impl Viewer {
         self.selected = (joint >= 0).then_some(joint as usize);
     }
 
-    /// Orbits by pixel deltas.
+    /// Orbits by pixel deltas. Non-finite values are ignored.
     pub fn orbit(&mut self, dx: f32, dy: f32) {
         self.camera.orbit(-dx * 0.008, dy * 0.008);
     }
@@ -210,12 +210,13 @@ impl Viewer {
         self.camera.set_angles(yaw, pitch);
     }
 
-    /// Pans by pixel deltas.
+    /// Pans by pixel deltas. Non-finite values are ignored.
     pub fn pan(&mut self, dx: f32, dy: f32) {
         self.camera.pan(dx, dy, self.config.height as f32);
     }
 
-    /// Zooms: the distance is multiplied by `factor`.
+    /// Zooms: the distance is multiplied by `factor`. Non-finite or
+    /// non-positive factors are ignored.
     pub fn zoom(&mut self, factor: f32) {
         self.camera.zoom(factor);
     }
