@@ -52,9 +52,12 @@ export interface Progress { id: number; stage: string; fraction: number }
 export interface SynthesisResult {
   /** The method the request asked for. */
   method: 'model' | 'residual' | 'slerp';
-  /** The method that made the motion: 'model' runs the residual network where its manifest
-   *  makes it the default and the keys are whole poses without DNA, else the generator. */
-  ran: 'residual' | 'generator' | 'slerp';
+  /** The pipeline that made the motion, as the core's planner (motion::plan) chose it, the same
+   *  for the CLI: 'model' runs the residual network where its manifest makes it the default and
+   *  the keys are whole poses without DNA, else the generator. */
+  ran: 'residual' | 'generator' | 'slerp' | 'zerovel';
+  /** The variation it ran at: the request's, else the chosen pipeline's own default (0 for SLERP+LERP). */
+  variation: number;
   /** BVH text, 60 fps, the model's skeleton; empty when the request said `bvh: false`. */
   bvh: string;
   frames: number;
@@ -103,7 +106,8 @@ export interface SynthesisRequest {
   method?: 'model' | 'residual' | 'slerp';
   /** Share of the networks' departure from SLERP+LERP kept, in the pose and the
    *  root path, in [0, 2] (1: the networks as trained; 0: SLERP+LERP).
-   *  Default: `DeeprepClient.defaultVariation`, the model's own. */
+   *  Default: the pipeline's own (the result's `variation` says which ran; for whole-pose keys
+   *  `DeeprepClient.defaultVariation`). */
   variation?: number;
   /** false: the result's `bvh` is empty, its text not written (tens of ms at 2,048 frames;
    *  the tracks and positions are there either way). Default true. */

@@ -197,8 +197,8 @@ function importBvh(msg) {
 function postResult(id, method, r, withBvh = true) {
   const positions = r.positions, translations = r.translations, quaternions = r.quaternions;
   const times = Array.from(r.times), keyError = Array.from(r.keyError);
-  const ran = r.method, frames = r.frames;
-  postMessage({ type: 'result', id, method, ran, bvh: withBvh ? r.bvh : '', frames, frameTime: r.frameTime, times, keyError,
+  const ran = r.method, frames = r.frames, variation = r.variation;
+  postMessage({ type: 'result', id, method, ran, variation, bvh: withBvh ? r.bvh : '', frames, frameTime: r.frameTime, times, keyError,
                 // the same numbers by name
                 stages: { generatorMs: times[0], rcfkMs: times[1], pathMs: times[2], postMs: times[3] },
                 keyErrors: { before: { root: keyError[0], joints: keyError[1] }, after: { root: keyError[2], joints: keyError[3] } },

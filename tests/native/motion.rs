@@ -285,9 +285,31 @@ fn the_residual_model_keeps_keys_and_scales_by_variation() {
     // gaps go to the generator's hierarchical synthesis
     let mut far = keys.clone();
     far[2].frame = 10 + 1 + deeprep::motion::MAX_GAP + 70;
-    assert!(!m.serves(&far, false), "a gap over MAX_GAP");
-    assert!(!m.serves(&keys, true), "DNA asked for");
-    assert_eq!(m.serves(&keys, false), m.default_for_whole_pose_keys);
+    use deeprep::motion::plan::{plan, Ask, Loaded, Pipeline};
+    let loaded = Loaded {
+        generator: Some(0.25),
+        residual: Some(m.info()),
+    };
+    let model = |keys: &[Keyframe], dna: bool| {
+        let ask = Ask {
+            method: "model",
+            keys,
+            dna,
+            post_process: true,
+            variation: None,
+        };
+        plan(&ask, &loaded).unwrap().pipeline
+    };
+    assert_eq!(
+        model(&far, false),
+        Pipeline::Generator,
+        "a gap over MAX_GAP"
+    );
+    assert_eq!(model(&keys, true), Pipeline::Generator, "DNA asked for");
+    assert_eq!(
+        model(&keys, false) == Pipeline::Residual,
+        m.default_for_whole_pose_keys
+    );
     let frames = 280;
     let out = m.synthesize(&keys, frames, 1.0).unwrap();
     let plain = slerp_lerp(&keys, frames).unwrap();
@@ -1371,4 +1393,108 @@ fn a_motions_pose_is_its_bvh_row() {
         let dot: f32 = a.iter().zip(b).map(|(x, y)| x * y).sum();
         assert!(dot.abs() > 1.0 - 1e-5, "{a:?} vs {b:?}");
     }
+}
+
+/// Issue 52: which pipeline runs, and at which variation, is decided once
+/// (`motion::plan`). The CLI's `--from-bvh` reports what it planned, and it
+/// is what the planner gives for the bundled manifests: whole-pose keys the
+/// residual network at its default, root-only and 2-D keys the generator at
+/// the generator's own default (not the residual network's), an explicit
+/// variation kept. The page and the npm client ask the same planner through
+/// the wasm `Inbetweener` (tests/web/sketch.test.mjs, tests/npm/app).
+#[test]
+fn the_cli_runs_what_the_planner_plans() {
+    use deeprep::motion::plan::{Loaded, Pipeline};
+    let Some(m) = models() else { return };
+    let dir = root().join("models/onnx");
+    let read = |n: &str| std::fs::read_to_string(dir.join(n)).unwrap();
+    let loaded = Loaded {
+        generator: Some(
+            deeprep::motion::manifest::parse(&read("tween_generator.manifest.json"))
+                .unwrap()
+                .variation,
+        ),
+        residual: Some(
+            deeprep::motion::residual::info_of_manifest(&read("tween_residual.manifest.json"))
+                .unwrap(),
+        ),
+    };
+    let tmp = std::env::temp_dir().join(format!("deeprep_cli_plan_{}", std::process::id()));
+    std::fs::create_dir_all(&tmp).unwrap();
+    let mut clip = m.template.clone();
+    let c = clip.channel_count();
+    clip.motion = (0..200 * c)
+        .map(|i| match i % c {
+            0 => (i / c) as f32 * 0.5,
+            1 => 90.0,
+            k if k > 5 => ((i / c) as f32 / 20.0 + k as f32).sin() * 10.0,
+            _ => 0.0,
+        })
+        .collect();
+    let clip_path = tmp.join("clip.bvh");
+    std::fs::write(&clip_path, clip.write()).unwrap();
+    let keys = [0usize, 60, 120];
+    for (kind, variation) in [
+        ("pose", None),
+        ("root", None),
+        ("xy", None),
+        ("root", Some("0.7")),
+    ] {
+        let out = tmp.join("out.bvh");
+        let mut args = vec![
+            "inbetween",
+            "--from-bvh",
+            clip_path.to_str().unwrap(),
+            "--keys",
+            "0,60,120",
+            "--key-kind",
+            kind,
+            "--models",
+            dir.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        if let Some(v) = variation {
+            args.extend(["--variation", v]);
+        }
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_deeprep"))
+            .args(&args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{kind}: {err}");
+        // what the planner gives for the same keys
+        let ck = deeprep::motion::clip::clip_keys(&clip, &keys, false).unwrap();
+        let kk = deeprep::motion::keys::KeyKind::parse(kind).unwrap();
+        let ks: Vec<_> = ck.keys.iter().map(|k| kk.of(k).unwrap()).collect();
+        let ask = deeprep::motion::plan::Ask {
+            method: "model",
+            keys: &ks,
+            dna: false,
+            post_process: true,
+            variation: variation.map(|v| v.parse().unwrap()),
+        };
+        let p = deeprep::motion::plan::plan(&ask, &loaded).unwrap();
+        let want_pipeline =
+            if kind == "pose" && loaded.residual.unwrap().default_for_whole_pose_keys {
+                Pipeline::Residual
+            } else {
+                Pipeline::Generator
+            };
+        assert_eq!(p.pipeline, want_pipeline, "{kind}");
+        if variation.is_none() {
+            let own = match p.pipeline {
+                Pipeline::Residual => loaded.residual.unwrap().variation,
+                _ => loaded.generator.unwrap(),
+            };
+            assert_eq!(p.variation, own, "{kind}");
+        }
+        let said = format!(
+            "pipeline {} at variation {:.2}",
+            p.pipeline.name(),
+            p.variation
+        );
+        assert!(err.contains(&said), "{kind}: expected '{said}' in {err}");
+    }
+    std::fs::remove_dir_all(&tmp).ok();
 }

@@ -9,6 +9,20 @@ import { BVHLoader } from 'three/examples/jsm/loaders/BVHLoader.js';
 import { launch, startServer, watchErrors, ROOT } from './chromium.mjs';
 
 let browser, server;
+
+// What the core's planner (motion::plan) runs for the page's requests: the
+// pipeline and its own default variation, from the bundled manifests, as the
+// CLI chooses (tests/native/motion.rs checks the CLI against the same rule).
+const manifest = (name) => JSON.parse(fs.readFileSync(path.join(ROOT, 'models/onnx', `${name}.manifest.json`), 'utf8'));
+const planned = { residual: manifest('tween_residual').variation ?? 1, generator: manifest('tween_generator').variation };
+async function ran(page) {
+  const [pipeline, v] = (await page.evaluate(() => document.body.dataset.ran)).split('@');
+  return { pipeline, variation: Number(v) };
+}
+function assertPlanned(got, pipeline) {
+  assert.equal(got.pipeline, pipeline);
+  assert.ok(Math.abs(got.variation - planned[pipeline]) < 1e-6, `${pipeline} ran at variation ${got.variation}, its default is ${planned[pipeline]}`);
+}
 before(async () => { server = await startServer(); browser = await launch(); });
 after(async () => { await browser?.close(); await server?.close(); });
 
@@ -41,6 +55,7 @@ test('sketch page: 3 keys, 512 frames, drawn, exported, undoable', async () => {
   // the badge names what ran: the default method's whole-pose keys go to the
   // residual network (its manifest makes it the default for them)
   assert.equal(await page.textContent('#method-badge'), 'supervised residual network');
+  assertPlanned(await ran(page), 'residual');
   // The wgpu renderer: WebGPU, or WebGL2 when the WebGPU device is lost
   // (headless Chromium's SwiftShader WebGPU cannot present a canvas and
   // loses its device after the first frame), never the 2-D fallback.
@@ -298,6 +313,10 @@ test('sketch page: a root path drawn on the ground (root-only keys, Sec. 5.4.1)'
     return w;
   });
   assert.ok(worst < 1e-2, `the root misses a path key by ${worst}`);
+  // root-only keys run the generator at its own default variation, not the
+  // residual network's that the slider showed after the whole-pose synthesis
+  assertPlanned(await ran(page), 'generator');
+  assert.ok(Math.abs(Number(await page.inputValue('#variation')) - planned.generator) < 1e-6);
   assert.deepEqual(errors, []);
   await page.close();
 });

@@ -95,7 +95,10 @@ export function wireInput() {
   $('redo').addEventListener('click', redo);
   $('synth').addEventListener('click', synthesize);
   $('compare-seeds').addEventListener('click', compareSeeds);
-  $('variation').addEventListener('input', () => { $('variation-value').textContent = Number($('variation').value).toFixed(2); });
+  $('variation').addEventListener('input', () => {
+    state.variationTouched = true;
+    $('variation-value').textContent = Number($('variation').value).toFixed(2);
+  });
   $('length').addEventListener('change', () => setLength(Number($('length').value)));
   $('export').addEventListener('click', exportBvh);
   $('import').addEventListener('change', (e) => { if (e.target.files[0]) importBvh(e.target.files[0]); });

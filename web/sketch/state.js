@@ -20,6 +20,10 @@ export const state = {
   client: null,
   view: null,          // see view.js
   dragPose: null,      // joint positions while a joint is dragged
+  // whether the user moved the variation slider: until then requests name no
+  // variation and the core's planner (motion::plan) runs each pipeline at its own
+  // default (the residual network's for whole poses, the generator's for root paths)
+  variationTouched: false,
 };
 
 export function setStatus(text, error = false) {

@@ -32,7 +32,9 @@ const METHOD_NAMES = { slerp: 'SLERP+LERP interpolation baseline', residual: 'su
 
 /** The page's request for `keys` with `dna` (flat channels), in the form the worker takes. */
 function request(keys, length, method, dna) {
-  const common = { frames: length, post: $('post').checked, footLock: $('footlock').checked, method, variation: Number($('variation').value) };
+  const common = { frames: length, post: $('post').checked, footLock: $('footlock').checked, method,
+    // the slider's value once the user has moved it; before, the planner's default for these keys
+    ...(state.variationTouched ? { variation: Number($('variation').value) } : {}) };
   const asRequest = (k) => (k.xy ? { frame: k.frame, xy: k.xy, root: k.root }
     : k.root ? { frame: k.frame, root: k.root } : { frame: k.frame, channels: k.channels });
   return keys.some((k) => k.root || k.xy)
@@ -94,6 +96,12 @@ export async function synthesize() {
     // what ran: 'model' is the residual network for whole-pose keys where its manifest says so
     $('method-badge').textContent = METHOD_NAMES[r.ran] || 'Generative Tweening model';
     $('method-badge').classList.toggle('baseline', method === 'slerp');
+    if (!state.variationTouched && r.ran !== 'slerp') {
+      // show the variation the planner chose for these keys
+      $('variation').value = String(r.variation);
+      $('variation-value').textContent = r.variation.toFixed(2);
+    }
+    document.body.dataset.ran = `${r.ran}@${r.variation}`;
     const ms = performance.now() - t0;
     $('timing').textContent = `${r.frames} frames in ${ms.toFixed(0)} ms` + (r.ran === 'generator' ? ` (generator ${r.times[0].toFixed(0)} ms, RC-FK ${r.times[1].toFixed(0)}, path ${r.times[2].toFixed(0)}, post ${r.times[3].toFixed(0)})` : '')
       + (partial && r.keyErrors ? `; keys met within ${r.keyErrors.after.root.toFixed(2)} (root), ${r.keyErrors.after.joints.toFixed(2)} (joints, the coordinates keys give) units; the networks alone missed by ${r.keyErrors.before.root.toFixed(1)}, ${r.keyErrors.before.joints.toFixed(1)}` : '')

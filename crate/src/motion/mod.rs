@@ -6,6 +6,8 @@
 //! - [`pipeline`]: generator → RC-FK → path predictor → integrated root →
 //!   post-processing, on ONNX models run by tract.
 //! - [`residual`]: a supervised residual on SLERP+LERP (issue 19, stage 1).
+//! - [`plan`]: which pipeline serves a request, at which variation (the
+//!   one place that decides it); [`serve`] runs the plan.
 //! - [`baseline`]: SLERP+LERP and zero-velocity.
 //! - [`clip`]: keys from frames of a user's clip, the result spliced back (any frame rate).
 //! - [`post`]: the correction that makes keyframes exact (Sec. 5.2.6).
@@ -23,9 +25,12 @@ pub mod keys;
 pub mod manifest;
 #[cfg(feature = "onnx")]
 pub mod pipeline;
+pub mod plan;
 pub mod post;
 #[cfg(feature = "onnx")]
 pub mod residual;
+#[cfg(feature = "onnx")]
+pub mod serve;
 pub mod spline;
 pub mod xy;
 

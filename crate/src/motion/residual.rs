@@ -38,6 +38,21 @@ struct Manifest {
     default_for_whole_pose_keys: bool,
 }
 
+/// What the request planner needs of a residual manifest's text (without
+/// loading the network): its default variation and whether `model` runs it
+/// for whole-pose keys.
+pub fn info_of_manifest(json: &str) -> Result<super::plan::ResidualInfo> {
+    let m: Manifest = serde_json::from_str(json)
+        .map_err(|e| Error::Invalid(format!("residual manifest: {e}")))?;
+    let variation = m.variation.unwrap_or(1.0);
+    super::check_variation(variation)
+        .map_err(|e| Error::Invalid(format!("residual manifest: {e}")))?;
+    Ok(super::plan::ResidualInfo {
+        variation,
+        default_for_whole_pose_keys: m.default_for_whole_pose_keys,
+    })
+}
+
 /// The residual in-betweening network with its skeleton.
 pub struct ResidualModel {
     net: Model,
@@ -187,21 +202,12 @@ impl ResidualModel {
         3 + 6 * self.rotating.len() + 4
     }
 
-    /// Whether the `model` method should run this network for `keys`: the
-    /// manifest makes it the default for whole-pose keys, every key is a
-    /// whole pose with rotations, no Motion DNA is asked for (the network
-    /// has no DNA input; the generator does), and no two keys are more than
-    /// [`MAX_GAP`](super::MAX_GAP) frames apart.
-    pub fn serves(&self, keys: &[Keyframe], dna_given: bool) -> bool {
-        self.default_for_whole_pose_keys
-            && !dna_given
-            && !keys.is_empty()
-            && keys
-                .iter()
-                .all(|k| k.rotations.is_some() && k.is_whole_pose())
-            // gaps the generator reaches directly: it was trained on gaps up to
-            // 300 frames; longer ones go to the generator's hierarchical synthesis
-            && keys.windows(2).all(|w| w[1].frame.abs_diff(w[0].frame) <= super::MAX_GAP)
+    /// What the request planner (`motion::plan`) needs of this network.
+    pub fn info(&self) -> super::plan::ResidualInfo {
+        super::plan::ResidualInfo {
+            variation: self.default_variation,
+            default_for_whole_pose_keys: self.default_for_whole_pose_keys,
+        }
     }
 
     /// In-betweens whole-pose keys over `frames` frames. Frames before the

@@ -59,6 +59,8 @@ pub fn dna_frames_of_pool(
         .collect())
 }
 
+use crate::motion::serve::Request;
+
 /// The in-betweening models (generator + path predictor) with their
 /// skeleton, ready to synthesize.
 #[wasm_bindgen]
@@ -79,6 +81,7 @@ pub struct InbetweenResult {
     key_error: Vec<f64>,
     critical_frames: Vec<u32>,
     method: &'static str,
+    variation: f32,
 }
 
 /// A result's BVH text: given, or written from its motion when first read
@@ -175,14 +178,21 @@ impl InbetweenResult {
         self.critical_frames.clone()
     }
 
-    /// The method that made this motion: "residual" (the residual
-    /// network), "generator" (generator, RC-FK, path predictor) or "slerp"
-    /// (SLERP+LERP). The "model" method runs the residual network where its
-    /// manifest makes it the default and it serves the keys (whole poses, no
-    /// DNA), else the generator.
+    /// The pipeline that made this motion: "residual" (the residual
+    /// network), "generator" (generator, RC-FK, path predictor), "slerp"
+    /// (SLERP+LERP) or "zerovel", as `motion::plan` chose it: the "model"
+    /// method runs the residual network where its manifest makes it the
+    /// default and it takes the keys (whole poses, no DNA), else the generator.
     #[wasm_bindgen(getter)]
     pub fn method(&self) -> String {
         self.method.into()
+    }
+
+    /// The variation it ran at (`motion::plan`: the request's, else the
+    /// chosen pipeline's default; 0 for SLERP+LERP).
+    #[wasm_bindgen(getter)]
+    pub fn variation(&self) -> f32 {
+        self.variation
     }
 }
 
@@ -223,6 +233,7 @@ fn result_from(
     method: &'static str,
     times: Vec<f64>,
     key_error: Vec<f64>,
+    variation: f32,
 ) -> Result<InbetweenResult, JsError> {
     let (positions, tracks, frames) =
         positions_and_tracks(template, motion.poses(template).map_err(js_err)?);
@@ -239,6 +250,7 @@ fn result_from(
         key_error,
         critical_frames: Vec::new(),
         method,
+        variation,
     })
 }
 
@@ -316,7 +328,15 @@ impl Inbetweener {
             let poses = keys_from_channels(&self.inner.template, &frames_idx, &opts.dna)?;
             Some(poses.iter().map(crate::motion::dna_pose).collect())
         };
-        self.run_model(keys, frames, opts.post, dna, opts.variation, opts.foot_lock)
+        self.run(Request {
+            method: "model".into(),
+            keys,
+            frames,
+            dna,
+            post_process: opts.post,
+            variation: opts.variation,
+            foot_lock: opts.foot_lock,
+        })
     }
 
     /// Range-constrained angles (degrees) of one joint in a channel row, then
@@ -362,7 +382,9 @@ impl Inbetweener {
     /// In-betweening inside a user's clip (BVH bytes on the model's
     /// skeleton, any frame rate): whole-pose keys from its frames
     /// `keyFrames` (the clip's own numbering), the motion between the first
-    /// and last key synthesized at 60 fps (`method` "model" or "slerp"),
+    /// and last key synthesized at 60 fps (`method`: "model", "generator",
+    /// "residual", "slerp" or "zerovel", planned as for `synthesize` and the
+    /// CLI's `--from-bvh`),
     /// then returned at the clip's frame rate and length, every other frame
     /// and the keys themselves unchanged.
     #[wasm_bindgen(js_name = synthesizeFromBvh)]
@@ -380,42 +402,22 @@ impl Inbetweener {
         clip::check_skeleton(&b, &self.inner.template).map_err(js_err)?;
         let frames: Vec<usize> = key_frames.iter().map(|&f| f as usize).collect();
         let ck = clip::clip_keys(&b, &frames, true).map_err(js_err)?;
-        let (motion, times, key_error, ran) = match method {
-            "slerp" => (
-                crate::motion::baseline::slerp_lerp(&ck.keys, ck.frames()).map_err(js_err)?,
-                vec![0.0; 4],
-                vec![0.0; 4],
-                "slerp",
-            ),
-            "model" => {
-                let req = crate::motion::pipeline::Request {
-                    keys: ck.keys.clone(),
-                    frames: ck.frames(),
-                    dna: None,
-                    post_process,
-                    foot_lock: (post_process && foot_lock.unwrap_or(false))
-                        .then(crate::motion::feet::FootLock::default),
-                    variation,
-                };
-                let out = self
-                    .inner
-                    .synthesize(&req, &|| js_sys::Date::now())
-                    .map_err(js_err)?;
-                let (t, e) = (&out.times, (&out.key_error_raw, &out.key_error));
-                (
-                    out.motion.clone(),
-                    vec![t.generator_ms, t.rcfk_ms, t.path_ms, t.post_ms],
-                    vec![e.0.root, e.0.local, e.1.root, e.1.local],
-                    "generator",
-                )
-            }
-            m => {
-                return Err(JsError::new(&format!(
-                    "unknown method '{m}'; accepted: model, slerp"
-                )))
-            }
-        };
-        let out = clip::splice(&b, &ck, &motion).map_err(js_err)?;
+        // the planner decides, as for the CLI's --from-bvh (the residual
+        // network for whole-pose keys where its manifest says so)
+        let served = crate::motion::serve::serve(
+            &self.models(),
+            Request {
+                method: method.into(),
+                post_process,
+                variation,
+                foot_lock: foot_lock.unwrap_or(false),
+                ..Request::model(ck.keys.clone(), ck.frames())
+            },
+            &|| js_sys::Date::now(),
+        )
+        .map_err(js_err)?;
+        let motion = &served.motion;
+        let out = clip::splice(&b, &ck, motion).map_err(js_err)?;
         let poses = (0..out.frame_count()).map(|f| crate::skeleton::Pose::read(&out, out.frame(f)));
         let (positions, tracks, frames) = positions_and_tracks(&out, poses);
         Ok(InbetweenResult {
@@ -424,10 +426,11 @@ impl Inbetweener {
             frames,
             frame_time: out.frame_time,
             tracks,
-            times,
-            key_error,
-            critical_frames: Vec::new(),
-            method: ran,
+            times: served.stage_ms.to_vec(),
+            key_error: served.key_error.to_vec(),
+            critical_frames: served.critical_frames.iter().map(|&f| f as u32).collect(),
+            method: served.plan.pipeline.name(),
+            variation: served.plan.variation,
         })
     }
 
@@ -483,13 +486,13 @@ impl Inbetweener {
         use crate::motion::keys::{warm_up_keys, KeyKind, WARM_UP_FRAMES};
         let keys = warm_up_keys(&self.inner.template).map_err(js_err)?;
         for _ in 0..rounds {
-            self.run_model(keys.clone(), WARM_UP_FRAMES, true, None, None, false)?;
+            self.run(Request::model(keys.clone(), WARM_UP_FRAMES))?;
         }
         if generator && self.residual_is_default() {
             let first = KeyKind::Root.of(&keys[0]).map_err(js_err)?;
             let mut second = KeyKind::Root.of(&keys[1]).map_err(js_err)?;
             second.frame = 63;
-            self.run_model(vec![first, second], 64, true, None, None, false)?;
+            self.run(Request::model(vec![first, second], 64))?;
         }
         Ok(())
     }
@@ -522,7 +525,11 @@ impl Inbetweener {
         variation: Option<f32>,
     ) -> Result<InbetweenResult, JsError> {
         let keys = keys_from_channels(&self.inner.template, key_frames, key_channels)?;
-        self.run_residual(&keys, frames, variation, false)
+        self.run(Request {
+            method: "residual".into(),
+            variation,
+            ..Request::model(keys, frames)
+        })
     }
 
     /// The SLERP+LERP baseline on the same inputs (labelled as such in UIs).
@@ -533,7 +540,10 @@ impl Inbetweener {
         frames: usize,
     ) -> Result<InbetweenResult, JsError> {
         let keys = keys_from_channels(&self.inner.template, key_frames, key_channels)?;
-        self.run_slerp(&keys, frames)
+        self.run(Request {
+            method: "slerp".into(),
+            ..Request::model(keys, frames)
+        })
     }
 
     /// Runs a whole request given as JSON (`motion::keys::RequestDoc`):
@@ -551,115 +561,56 @@ impl Inbetweener {
             .frames
             .ok_or_else(|| JsError::new("request: \"frames\" is required"))?;
         let keys = doc.file.keys;
-        match doc.method.as_str() {
-            "slerp" => self.run_slerp(&keys, frames),
-            "residual" => self.run_residual(&keys, frames, doc.variation, doc.foot_lock),
-            _ => self.run_model(
-                keys,
-                frames,
-                doc.post,
-                doc.dna,
-                doc.variation,
-                doc.foot_lock,
-            ),
+        self.run(Request {
+            method: doc.method,
+            keys,
+            frames,
+            dna: doc.dna,
+            post_process: doc.post,
+            variation: doc.variation,
+            foot_lock: doc.foot_lock,
+        })
+    }
+}
+
+impl Request {
+    /// The `model` method on `keys` with every other option at its default.
+    fn model(keys: Vec<crate::motion::Keyframe>, frames: usize) -> Request {
+        Request {
+            method: "model".into(),
+            keys,
+            frames,
+            dna: None,
+            post_process: true,
+            variation: None,
+            foot_lock: false,
         }
     }
 }
 
 impl Inbetweener {
-    fn run_model(
-        &self,
-        keys: Vec<crate::motion::Keyframe>,
-        frames: usize,
-        post_process: bool,
-        dna: Option<Vec<Vec<f32>>>,
-        variation: Option<f32>,
-        foot_lock: bool,
-    ) -> Result<InbetweenResult, JsError> {
-        // the residual network where its manifest makes it the model for
-        // whole-pose keys without DNA (as the CLI's --method model)
-        if self
-            .residual
-            .as_ref()
-            .is_some_and(|r| post_process && r.serves(&keys, dna.is_some()))
-        {
-            return self.run_residual(&keys, frames, variation, foot_lock);
+    /// The loaded networks, as `motion::serve` takes them.
+    fn models(&self) -> crate::motion::serve::Models<'_> {
+        crate::motion::serve::Models {
+            generator: Some(&self.inner),
+            residual: self.residual.as_ref(),
         }
-        let req = crate::motion::pipeline::Request {
-            keys,
-            frames,
-            dna,
-            post_process,
-            foot_lock: (post_process && foot_lock).then(crate::motion::feet::FootLock::default),
-            variation,
-        };
-        let now = || js_sys::Date::now();
-        let out = self.inner.synthesize(&req, &now).map_err(js_err)?;
-        let t = &out.times;
+    }
+
+    /// Plans a request (`motion::plan`) and runs it (`motion::serve`).
+    fn run(&self, req: Request) -> Result<InbetweenResult, JsError> {
+        let s = crate::motion::serve::serve(&self.models(), req, &|| js_sys::Date::now())
+            .map_err(js_err)?;
         let mut r = result_from(
             &self.inner.template,
-            out.motion,
-            "generator",
-            vec![t.generator_ms, t.rcfk_ms, t.path_ms, t.post_ms],
-            vec![
-                out.key_error_raw.root,
-                out.key_error_raw.local,
-                out.key_error.root,
-                out.key_error.local,
-            ],
+            s.motion,
+            s.plan.pipeline.name(),
+            s.stage_ms.to_vec(),
+            s.key_error.to_vec(),
+            s.plan.variation,
         )?;
-        r.critical_frames = out.critical_frames.iter().map(|&f| f as u32).collect();
+        r.critical_frames = s.critical_frames.iter().map(|&f| f as u32).collect();
         Ok(r)
-    }
-
-    /// The residual network on whole-pose keys, then foot locking if asked.
-    fn run_residual(
-        &self,
-        keys: &[crate::motion::Keyframe],
-        frames: usize,
-        variation: Option<f32>,
-        foot_lock: bool,
-    ) -> Result<InbetweenResult, JsError> {
-        let r = self
-            .residual
-            .as_ref()
-            .ok_or_else(|| JsError::new("the residual network is not loaded (setResidual)"))?;
-        self.timed("residual", || {
-            let mut m = r.synthesize(keys, frames, variation.unwrap_or(r.default_variation))?;
-            if foot_lock {
-                let cfg = crate::motion::feet::FootLock::default();
-                crate::motion::feet::lock_feet(&mut m, &r.template, keys, &cfg);
-            }
-            Ok(m)
-        })
-    }
-
-    fn run_slerp(
-        &self,
-        keys: &[crate::motion::Keyframe],
-        frames: usize,
-    ) -> Result<InbetweenResult, JsError> {
-        self.timed("slerp", || {
-            crate::motion::baseline::slerp_lerp(keys, frames)
-        })
-    }
-
-    /// A one-stage result: `run`'s motion, its time as the first stage's.
-    fn timed(
-        &self,
-        method: &'static str,
-        run: impl FnOnce() -> crate::error::Result<crate::motion::Motion>,
-    ) -> Result<InbetweenResult, JsError> {
-        let t0 = js_sys::Date::now();
-        let m = run().map_err(js_err)?;
-        let ms = js_sys::Date::now() - t0;
-        result_from(
-            &self.inner.template,
-            m,
-            method,
-            vec![ms, 0.0, 0.0, 0.0],
-            vec![0.0; 4],
-        )
     }
 }
 

@@ -48,7 +48,10 @@ try {
   const rows = Array.from({ length: 121 }, (_, f) => row.map((v, i) => (i === 0 ? f * 0.5 : i === 7 ? 20 * Math.sin(f / 20) : v)).join(' '));
   const fromClip = await client.synthesizeFromBvh(`${head}MOTION\nFrames: 121\nFrame Time: 0.00833333\n${rows.join('\n')}\n`, { keys: [0, 60, 120] });
   if (fromClip.frames !== 121 || !/Frame Time: 0.00833333/.test(fromClip.bvh)) throw new Error(`synthesizeFromBvh: ${fromClip.frames} frames`);
-  if (fromClip.ran !== 'generator') throw new Error(`synthesizeFromBvh ran '${fromClip.ran}'`);
+  // the planner (motion::plan) chooses as for the CLI's --from-bvh: whole-pose keys, the residual network
+  if (fromClip.ran !== 'residual' || fromClip.variation !== r.variation) {
+    throw new Error(`synthesizeFromBvh ran '${fromClip.ran}' at variation ${fromClip.variation}, synthesize '${r.ran}' at ${r.variation}`);
+  }
   // three.js without text: the same tracks as BVHLoader on the BVH text, and the clip plays
   const three = toThree(r, client.skeleton);
   const ref = new BVHLoader().parse(r.bvh);

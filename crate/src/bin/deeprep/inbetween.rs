@@ -107,128 +107,110 @@ fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
     Ok(o)
 }
 
+/// What the models folder holds, for the planner (`motion::plan`): the
+/// generator's default variation and the residual network's manifest, each
+/// absent when its files are (interpolation needs neither).
+fn loaded(o: &Opts) -> Result<deeprep::motion::plan::Loaded, String> {
+    let dir = std::path::Path::new(&o.models);
+    let read = |name: &str| -> Result<Option<String>, String> {
+        let p = dir.join(name);
+        if !p.exists() {
+            return Ok(None);
+        }
+        std::fs::read_to_string(&p)
+            .map(Some)
+            .map_err(|e| format!("{}: {e}", p.display()))
+    };
+    let generator = match read("tween_generator.manifest.json")? {
+        Some(t) => Some(
+            deeprep::motion::manifest::parse(&t)
+                .map_err(|e| e.to_string())?
+                .variation,
+        ),
+        None => None,
+    };
+    let residual = match read("tween_residual.manifest.json")? {
+        Some(t) => {
+            Some(deeprep::motion::residual::info_of_manifest(&t).map_err(|e| e.to_string())?)
+        }
+        None => None,
+    };
+    Ok(deeprep::motion::plan::Loaded {
+        generator,
+        residual,
+    })
+}
+
+/// Plans the request (`motion::plan`, as the wasm API and the page do),
+/// loads what the plan runs, and runs it (`motion::serve`).
 fn synthesize(
     o: &Opts,
     keys: &[deeprep::motion::Keyframe],
     frames: usize,
     dna: Option<Vec<Vec<f32>>>,
 ) -> Result<(deeprep::motion::Motion, String), String> {
-    use deeprep::motion::{baseline, pipeline};
-    let residual = match o.method.as_str() {
-        "model" if o.post => residual_serves(o, keys, dna.is_some())?,
-        _ => None,
+    use deeprep::motion::plan::Pipeline;
+    use deeprep::motion::serve::{run, Models, Request};
+    use deeprep::motion::{pipeline::TweenModels, residual::ResidualModel};
+    let req = Request {
+        method: o.method.clone(),
+        keys: keys.to_vec(),
+        frames,
+        dna,
+        post_process: o.post,
+        variation: o.variation,
+        foot_lock: o.foot_lock,
     };
-    if let Some(m) = residual {
-        let (motion, info) = run_residual(o, &m, keys, frames)?;
-        return Ok((
-            motion,
-            format!("The residual network served it (the model for whole-pose keys without DNA): {info}"),
-        ));
-    }
-    match o.method.as_str() {
-        "slerp" => Ok((
-            baseline::slerp_lerp(keys, frames).map_err(|e| e.to_string())?,
-            String::new(),
-        )),
-        "zerovel" => Ok((
-            baseline::zero_velocity(keys, frames).map_err(|e| e.to_string())?,
-            String::new(),
-        )),
-        "residual" => {
-            if dna.is_some() || !o.post {
-                return Err("--method residual takes no --dna or --no-post (its keys are exact by construction)".into());
-            }
-            let m =
-                deeprep::motion::residual::ResidualModel::load_dir(std::path::Path::new(&o.models))
-                    .map_err(|e| e.to_string())?;
-            run_residual(o, &m, keys, frames)
-        }
-        "model" | "generator" => {
-            let m = pipeline::TweenModels::load_dir(std::path::Path::new(&o.models))
-                .map_err(|e| e.to_string())?;
-            let start = std::time::Instant::now();
-            let clock = move || start.elapsed().as_secs_f64() * 1000.0;
-            let req = pipeline::Request {
-                keys: keys.to_vec(),
-                frames,
-                dna,
-                post_process: o.post,
-                foot_lock: o.foot_lock.then(deeprep::motion::feet::FootLock::default),
-                variation: o.variation,
-            };
-            let out = m.synthesize(&req, &clock).map_err(|e| e.to_string())?;
-            let info = format!(
-                "key error before post-processing: root {:.3}, joints {:.3}; after: root {:.3}, joints {:.3}; feet: {} contacts pinned over {} frames; stages ms: generator {:.1}, rc-fk {:.1}, path {:.1}, post {:.1}",
-                out.key_error_raw.root,
-                out.key_error_raw.local,
-                out.key_error.root,
-                out.key_error.local,
-                out.foot_lock.contacts,
-                out.foot_lock.frames,
-                out.times.generator_ms,
-                out.times.rcfk_ms,
-                out.times.path_ms,
-                out.times.post_ms
-            );
-            let info = if out.critical_frames.is_empty() {
-                info
-            } else {
-                format!(
-                    "hierarchical (a gap over {} frames): critical keys made first at frames {:?}; {info}",
-                    pipeline::MAX_GAP,
-                    out.critical_frames
-                )
-            };
-            Ok((out.motion, info))
-        }
-        other => Err(format!(
-            "unknown --method '{other}' (model, generator, residual, slerp, zerovel)"
-        )),
-    }
-}
-
-/// The residual network when `--method model` should run it
-/// (`ResidualModel::serves`: its manifest makes it the default for
-/// whole-pose keys without DNA), else `None`; a residual file that is there
-/// but does not load is an error, not a silent fallback.
-fn residual_serves(
-    o: &Opts,
-    keys: &[deeprep::motion::Keyframe],
-    dna: bool,
-) -> Result<Option<deeprep::motion::residual::ResidualModel>, String> {
+    let plan = deeprep::motion::plan::plan(&req.ask(), &loaded(o)?).map_err(|e| e.to_string())?;
     let dir = std::path::Path::new(&o.models);
-    if !dir.join("tween_residual.manifest.json").exists() {
-        return Ok(None);
-    }
-    let m = deeprep::motion::residual::ResidualModel::load_dir(dir).map_err(|e| e.to_string())?;
-    Ok(m.serves(keys, dna).then_some(m))
-}
-
-/// The residual network on whole-pose keys, then foot locking if asked.
-fn run_residual(
-    o: &Opts,
-    m: &deeprep::motion::residual::ResidualModel,
-    keys: &[deeprep::motion::Keyframe],
-    frames: usize,
-) -> Result<(deeprep::motion::Motion, String), String> {
+    let (generator, residual) = match plan.pipeline {
+        Pipeline::Generator => (
+            Some(TweenModels::load_dir(dir).map_err(|e| e.to_string())?),
+            None,
+        ),
+        Pipeline::Residual => (
+            None,
+            Some(ResidualModel::load_dir(dir).map_err(|e| e.to_string())?),
+        ),
+        _ => (None, None),
+    };
+    let models = Models {
+        generator: generator.as_ref(),
+        residual: residual.as_ref(),
+    };
     let start = std::time::Instant::now();
-    let mut motion = m
-        .synthesize(keys, frames, o.variation.unwrap_or(m.default_variation))
-        .map_err(|e| e.to_string())?;
-    let mut info = format!("{:.1} ms", start.elapsed().as_secs_f64() * 1000.0);
-    if o.foot_lock {
-        let s = deeprep::motion::feet::lock_feet(
-            &mut motion,
-            &m.template,
-            keys,
-            &deeprep::motion::feet::FootLock::default(),
-        );
+    let clock = move || start.elapsed().as_secs_f64() * 1000.0;
+    let s = run(&models, plan, req, &clock).map_err(|e| e.to_string())?;
+    let t = s.stage_ms;
+    let mut info = format!(
+        "pipeline {} at variation {:.2} (motion::plan)",
+        plan.pipeline.name(),
+        plan.variation
+    );
+    match plan.pipeline {
+        Pipeline::Generator => {
+            let e = s.key_error;
+            info += &format!(
+                "; key error before post-processing: root {:.3}, joints {:.3}; after: root {:.3}, joints {:.3}; stages ms: generator {:.1}, rc-fk {:.1}, path {:.1}, post {:.1}",
+                e[0], e[1], e[2], e[3], t[0], t[1], t[2], t[3]
+            );
+            if !s.critical_frames.is_empty() {
+                info += &format!(
+                    "; hierarchical (a gap over {} frames): critical keys made first at frames {:?}",
+                    deeprep::motion::MAX_GAP,
+                    s.critical_frames
+                );
+            }
+        }
+        _ => info += &format!("; {:.1} ms", t[0]),
+    }
+    if let Some(f) = s.feet {
         info += &format!(
             "; feet: {} contacts pinned over {} frames",
-            s.contacts, s.frames
+            f.contacts, f.frames
         );
     }
-    Ok((motion, info))
+    Ok((s.motion, info))
 }
 
 /// Motion DNA poses from `--dna`: frames `F1,F2,...` of the `--from-bvh`
@@ -366,7 +348,7 @@ fn inbetween(args: &[&str]) -> Result<(), String> {
         std::fs::write(&path, out.write()).map_err(|e| format!("{path}: {e}"))?;
         let (first, last) = ck.span();
         eprintln!(
-            "wrote {path}: {} frames, frames {first}..={last} synthesized by {}. {info}",
+            "wrote {path}: {} frames, frames {first}..={last} synthesized by --method {}: {info}",
             out.frame_count(),
             o.method
         );

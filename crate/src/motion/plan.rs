@@ -1,0 +1,302 @@
+//! The one place that decides which pipeline serves an in-betweening
+//! request, and at which variation.
+//!
+//! The CLI (`deeprep inbetween`), the wasm `Inbetweener` (`synthesize`,
+//! `synthesizeRequest`, `synthesizeFromBvh`, and so the npm worker and the
+//! sketching page) all call [`plan`]; none decides on its own. The rules:
+//!
+//! - `model` (the default method): the residual network when it is loaded,
+//!   its manifest makes it the model for whole-pose keys, post-processing
+//!   is on, every key is a whole pose with rotations, no Motion DNA is
+//!   given (it has no DNA input) and no two keys are more than
+//!   [`MAX_GAP`](super::MAX_GAP) frames apart; otherwise the generator
+//!   pipeline (root-only and 2-D keys, DNA, long gaps).
+//! - `generator`, `residual`: that pipeline (the residual network takes
+//!   whole-pose keys only, no DNA, and always makes keys exact).
+//! - `slerp`, `zerovel`: the interpolation baselines (variation 0).
+//!
+//! The variation is the request's when it gives one, else the chosen
+//! pipeline's own default (each manifest's, picked on training takes), so
+//! root-only keys never run the generator at the residual network's
+//! default; it is checked by [`check_variation`](super::check_variation).
+
+use super::{check_variation, Keyframe, MAX_GAP};
+use crate::error::{Error, Result};
+
+/// A pipeline that can serve a request.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum Pipeline {
+    /// The supervised residual network on SLERP+LERP (whole-pose keys).
+    Residual,
+    /// The generator, RC-FK, path predictor and post-processing (Fig. 5.1).
+    Generator,
+    /// SLERP+LERP interpolation.
+    Slerp,
+    /// Zero-velocity (hold each key).
+    ZeroVelocity,
+}
+
+impl Pipeline {
+    /// The name results and messages carry: "residual", "generator",
+    /// "slerp" or "zerovel".
+    pub fn name(self) -> &'static str {
+        match self {
+            Pipeline::Residual => "residual",
+            Pipeline::Generator => "generator",
+            Pipeline::Slerp => "slerp",
+            Pipeline::ZeroVelocity => "zerovel",
+        }
+    }
+}
+
+/// The methods a request may name.
+pub const METHODS: [&str; 5] = ["model", "generator", "residual", "slerp", "zerovel"];
+
+/// What is loaded, as the planner needs it.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Loaded {
+    /// The generator's default variation (its manifest's); `None` when the
+    /// generator is not loaded.
+    pub generator: Option<f32>,
+    /// The residual network, when loaded.
+    pub residual: Option<ResidualInfo>,
+}
+
+/// The residual network's manifest, as the planner needs it.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct ResidualInfo {
+    /// Its default variation.
+    pub variation: f32,
+    /// Whether the `model` method runs it for the keys it takes.
+    pub default_for_whole_pose_keys: bool,
+}
+
+/// A request, as the planner needs it.
+#[derive(Copy, Clone, Debug)]
+pub struct Ask<'a> {
+    /// `model`, `generator`, `residual`, `slerp` or `zerovel`.
+    pub method: &'a str,
+    /// The keys.
+    pub keys: &'a [Keyframe],
+    /// Whether Motion DNA poses are given.
+    pub dna: bool,
+    /// Whether post-processing (exact keys) is on.
+    pub post_process: bool,
+    /// The variation asked for, if any.
+    pub variation: Option<f32>,
+}
+
+/// What runs.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Plan {
+    /// The pipeline.
+    pub pipeline: Pipeline,
+    /// The variation it runs at (0 for the baselines, which have none).
+    pub variation: f32,
+}
+
+/// Whether the residual network can take `keys`: every key a whole pose
+/// with rotations, no DNA, no gap over [`MAX_GAP`] frames (longer gaps go
+/// to the generator's hierarchical synthesis).
+pub fn residual_takes(keys: &[Keyframe], dna: bool) -> bool {
+    !dna && !keys.is_empty()
+        && keys
+            .iter()
+            .all(|k| k.rotations.is_some() && k.is_whole_pose())
+        && keys
+            .windows(2)
+            .all(|w| w[1].frame.abs_diff(w[0].frame) <= MAX_GAP)
+}
+
+/// Decides the pipeline and variation of a request (the rules above).
+pub fn plan(ask: &Ask, loaded: &Loaded) -> Result<Plan> {
+    let generator = || {
+        loaded.generator.ok_or_else(|| {
+            Error::Invalid(
+                "the generator is not loaded; method slerp interpolates without it".into(),
+            )
+        })
+    };
+    let chosen = |pipeline: Pipeline, default: f32| -> Result<Plan> {
+        let variation = ask.variation.unwrap_or(default);
+        check_variation(variation)?;
+        Ok(Plan {
+            pipeline,
+            variation,
+        })
+    };
+    match ask.method {
+        "model" => match loaded.residual {
+            Some(r)
+                if r.default_for_whole_pose_keys
+                    && ask.post_process
+                    && residual_takes(ask.keys, ask.dna) =>
+            {
+                chosen(Pipeline::Residual, r.variation)
+            }
+            _ => chosen(Pipeline::Generator, generator()?),
+        },
+        "generator" => chosen(Pipeline::Generator, generator()?),
+        "residual" => {
+            let r = loaded
+                .residual
+                .ok_or_else(|| Error::Invalid("the residual network is not loaded".into()))?;
+            if ask.dna || !ask.post_process {
+                return Err(Error::Invalid(
+                    "method residual takes no Motion DNA and always makes keys exact (no post-processing switch)"
+                        .into(),
+                ));
+            }
+            chosen(Pipeline::Residual, r.variation)
+        }
+        "slerp" => chosen(Pipeline::Slerp, 0.0),
+        "zerovel" => chosen(Pipeline::ZeroVelocity, 0.0),
+        other => Err(Error::Invalid(format!(
+            "unknown method '{other}' ({})",
+            METHODS.join(", ")
+        ))),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rotation::Mat3;
+
+    fn pose(frame: usize) -> Keyframe {
+        let eye: Mat3<f64> = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+        Keyframe {
+            frame,
+            positions: vec![0.0; 6],
+            mask: vec![true; 6],
+            rotations: Some(vec![eye; 2]),
+        }
+    }
+
+    fn root(frame: usize) -> Keyframe {
+        Keyframe::root_only(frame, [0.0, 50.0, 0.0], 2)
+    }
+
+    const LOADED: Loaded = Loaded {
+        generator: Some(0.25),
+        residual: Some(ResidualInfo {
+            variation: 1.0,
+            default_for_whole_pose_keys: true,
+        }),
+    };
+
+    fn ask<'a>(method: &'a str, keys: &'a [Keyframe]) -> Ask<'a> {
+        Ask {
+            method,
+            keys,
+            dna: false,
+            post_process: true,
+            variation: None,
+        }
+    }
+
+    #[test]
+    fn whole_pose_keys_go_to_the_residual_network_and_the_rest_to_the_generator() {
+        let poses = [pose(0), pose(60)];
+        let p = plan(&ask("model", &poses), &LOADED).unwrap();
+        assert_eq!((p.pipeline, p.variation), (Pipeline::Residual, 1.0));
+        // root-only keys: the generator, at the generator's own default
+        let roots = [root(0), root(60)];
+        let p = plan(&ask("model", &roots), &LOADED).unwrap();
+        assert_eq!((p.pipeline, p.variation), (Pipeline::Generator, 0.25));
+        // a mix, DNA, post-processing off, a gap over MAX_GAP: the generator
+        let mixed = [pose(0), root(60)];
+        assert_eq!(
+            plan(&ask("model", &mixed), &LOADED).unwrap().pipeline,
+            Pipeline::Generator
+        );
+        let dna = Ask {
+            dna: true,
+            ..ask("model", &poses)
+        };
+        assert_eq!(plan(&dna, &LOADED).unwrap().variation, 0.25);
+        let raw = Ask {
+            post_process: false,
+            ..ask("model", &poses)
+        };
+        assert_eq!(plan(&raw, &LOADED).unwrap().pipeline, Pipeline::Generator);
+        let far = [pose(0), pose(MAX_GAP + 1)];
+        assert_eq!(
+            plan(&ask("model", &far), &LOADED).unwrap().pipeline,
+            Pipeline::Generator
+        );
+        // a residual network that is not the default, or none
+        let not_default = Loaded {
+            residual: Some(ResidualInfo {
+                variation: 1.0,
+                default_for_whole_pose_keys: false,
+            }),
+            ..LOADED
+        };
+        assert_eq!(
+            plan(&ask("model", &poses), &not_default).unwrap().pipeline,
+            Pipeline::Generator
+        );
+        let none = Loaded {
+            residual: None,
+            ..LOADED
+        };
+        assert_eq!(
+            plan(&ask("model", &poses), &none).unwrap().pipeline,
+            Pipeline::Generator
+        );
+    }
+
+    #[test]
+    fn an_asked_variation_is_kept_and_checked() {
+        let roots = [root(0), root(60)];
+        let a = Ask {
+            variation: Some(0.7),
+            ..ask("model", &roots)
+        };
+        assert_eq!(plan(&a, &LOADED).unwrap().variation, 0.7);
+        for v in [f32::NAN, -0.1, 2.5, f32::INFINITY] {
+            let a = Ask {
+                variation: Some(v),
+                ..ask("model", &roots)
+            };
+            let e = plan(&a, &LOADED).unwrap_err().to_string();
+            assert!(e.contains("must be a number in [0, 2]"), "{e}");
+        }
+    }
+
+    #[test]
+    fn named_methods_and_their_errors() {
+        let poses = [pose(0), pose(60)];
+        for (m, want) in [
+            ("generator", Pipeline::Generator),
+            ("residual", Pipeline::Residual),
+            ("slerp", Pipeline::Slerp),
+            ("zerovel", Pipeline::ZeroVelocity),
+        ] {
+            assert_eq!(
+                plan(&ask(m, &poses), &LOADED).unwrap().pipeline,
+                want,
+                "{m}"
+            );
+        }
+        assert_eq!(plan(&ask("slerp", &poses), &LOADED).unwrap().variation, 0.0);
+        let e = plan(&ask("fast", &poses), &LOADED).unwrap_err().to_string();
+        assert!(
+            e.contains("unknown method 'fast'") && e.contains("zerovel"),
+            "{e}"
+        );
+        let dna = Ask {
+            dna: true,
+            ..ask("residual", &poses)
+        };
+        assert!(plan(&dna, &LOADED).is_err());
+        let none = Loaded {
+            residual: None,
+            generator: None,
+        };
+        assert!(plan(&ask("residual", &poses), &none).is_err());
+        assert!(plan(&ask("model", &poses), &none).is_err());
+        assert!(plan(&ask("slerp", &poses), &none).is_ok());
+    }
+}
