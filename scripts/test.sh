@@ -6,7 +6,22 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH="$HOME/.cargo/bin:$PATH"
 t_start=$(date +%s)
-section() { printf '\n==== %s (t+%ss)\n' "$*" "$(( $(date +%s) - t_start ))"; }
+# each section's name and start, for the summary table at the end
+names=(); starts=()
+section() {
+  names+=("$*"); starts+=("$(date +%s)")
+  printf '\n==== %s (t+%ss)\n' "$*" "$(( $(date +%s) - t_start ))"
+}
+summary() {
+  local end; end=$(date +%s)
+  printf '\n==== summary: seconds per section\n'
+  for i in "${!names[@]}"; do
+    local next=${starts[$((i + 1))]:-$end}
+    printf '%6s  %s\n' "$(( next - starts[i] ))" "${names[$i]%%:*}"
+  done
+  printf '%6s  total\n' "$(( end - t_start ))"
+}
+trap summary EXIT
 
 section "lint: cargo fmt, clippy natively and for wasm32 (warnings are errors)"
 bash scripts/lint.sh
@@ -53,4 +68,6 @@ bash scripts/build-site.sh
 section "web: the page in headless Chromium (Playwright)"
 node --test tests/web/
 
-section "all tests passed"
+trap - EXIT
+summary
+printf '\nall tests passed\n'
