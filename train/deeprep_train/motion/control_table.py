@@ -1,4 +1,4 @@
-"""README's table for issue 20's partial keys and long gaps, from two
+"""docs/results.md's table for issue 20's partial keys and long gaps, from two
 motion/eval.py runs on the validation takes:
 
   train/.venv/bin/python -m deeprep_train.motion.eval --gaps 60,120,300 \\
@@ -7,7 +7,7 @@ motion/eval.py runs on the validation takes:
       --methods slerp,model,residual-1 --json docs/inbetween_gap1500.json
   train/.venv/bin/python -m deeprep_train.motion.control_table
 
-Replaces the block between <!-- control --> and <!-- /control --> in README.md.
+Replaces the block between <!-- control --> and <!-- /control --> in docs/results.md.
 """
 import json
 import os
@@ -63,7 +63,7 @@ def main():
         *rows(long, [m for m in NAMES if f"{m}@1500" in long], [1500]),
         "<!-- /control -->",
     ])
-    p = os.path.join(ROOT, "README.md")
+    p = os.path.join(ROOT, "docs", "results.md")
     s = open(p).read()
     s = re.sub(r"<!-- control -->.*?<!-- /control -->", lambda _: text, s, flags=re.S)
     open(p, "w").write(s)

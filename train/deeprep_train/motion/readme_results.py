@@ -1,4 +1,4 @@
-"""Fills the README's model table and in-betweening results from the
+"""Fills README.md's model table and docs/results.md's in-betweening results from the
 manifests and docs/inbetween_eval.json (run after motion/export.py and
 motion/eval.py). Replaces the blocks between the <!-- models --> and
 <!-- results --> markers."""
@@ -78,7 +78,7 @@ def main():
         recipe = resid["training"].get("recipe")
         how = recipe or (
             "L1 losses, a joint-speed loss, contact-aware foot velocity and a loss in L2P's units and one on short-time "
-            "spectra (`train/deeprep_train/motion/residual.py`, runs A-G in train/README.md; issue 19's supervised stage, "
+            "spectra (`train/deeprep_train/motion/residual.py`, runs A-G in train/notes/; issue 19's supervised stage, "
             "no adversarial loss)")
         res_row = (f"| `tween_residual.onnx` | the same frames, mirrored, {resid['training']['steps']:,} steps × 8 windows of 360-480 frames "
                    f"with key gaps of 15-300 frames, one CPU thread, {how} "
@@ -162,13 +162,14 @@ fit of `train/deeprep_train/motion/fit_frames.py`; 8.2 before), a floor that int
 keys' own rotations does not have. Keys are exact after post-processing. What was tried and what is
 next: train/README.md and the issue notes.
 
-![error against gap](docs/inbetween_eval.png)
+![error against gap](inbetween_eval.png)
 <!-- /results -->"""
-    p = os.path.join(ROOT, "README.md")
-    s = open(p).read()
-    s = re.sub(r"<!-- models -->.*?<!-- /models -->", models, s, flags=re.S) if "<!-- models -->" in s else s.replace("MODELS_TABLE", models)
-    s = re.sub(r"<!-- results -->.*?<!-- /results -->", results, s, flags=re.S) if "<!-- results -->" in s else s.replace("EVAL_RESULTS", results)
-    open(p, "w").write(s)
+    # the models table in README.md, the results in docs/results.md
+    for name, marker, text in (("README.md", "models", models), ("docs/results.md", "results", results)):
+        p = os.path.join(ROOT, name)
+        s = open(p).read()
+        s = re.sub(rf"<!-- {marker} -->.*?<!-- /{marker} -->", lambda _: text, s, flags=re.S)
+        open(p, "w").write(s)
     print(models)
     print(results)
 

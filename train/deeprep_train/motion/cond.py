@@ -1,0 +1,502 @@
+"""One conditional in-betweening network for every kind of key (issue 47).
+
+The whole-pose residual network (motion/residual.py) corrects SLERP+LERP of
+whole-pose keys. This network takes keys of any kind, per key:
+
+- **P**, a whole pose (root position and every joint's rotation),
+- **R**, the root's position only (a root path),
+- **X**, the root's position and every joint's x and y (a 2-D sketch in the
+  front view, depth unknown),
+
+mixed freely within a window, and reads per frame (channels in this order):
+
+1. the base root (3, / SCALE): LERP of the keys' root positions (every kind
+   gives it);
+2. the base rotations (6K): SLERP between the previous and next P keys,
+   held before the first and after the last; the training takes' mean pose
+   (the *prior*) where the window has no P key;
+3. the P keys' phase (4: s, frames since the previous / 60, to the next /
+   60, gate) - channels 1-3 are exactly the whole-pose network's input, so
+   that network's weights start this one (`--init`), new channels at zero;
+4. a P-keys flag (1), the phase of all keys (4), an X-or-P-keys flag (1)
+   and their phase (4);
+5. each joint's root-relative x and y (2J, / SCALE), LERP between the keys
+   that give them (X and P keys), zero where none does;
+6. Z noise channels, constant over a window (the input a diversity loss
+   will use; at zero weight until then).
+
+The output is the whole-pose network's: a residual on the base root and
+6D rotations, the root's gated by the distance to the nearest key (every
+key pins the root) and the rotations' by the distance to the nearest P key
+(1 everywhere when there is none), so P keys and root positions are exact
+by construction; X keys are pinned after synthesis (crate motion::xy).
+
+The canonical frame: the first key's root x/z removed, and its heading too
+when that key is a P key and no key in the window is an X key (an X key's
+x and y are in the world's front view, which a turn would mix with the
+unknown depth). Windows are turned about the vertical at random, so a
+world-frame window may head anywhere.
+
+Training is the whole-pose recipe's supervised stage (motion/residual.py's
+losses: positions, 6D, root, velocities, joint speed, L2P, foot contact,
+short-time spectra); the adversarial stage and the diversity term come
+after it.
+
+  train/.venv/bin/python -m deeprep_train.motion.cond train --init checkpoints/tween_resid_w128b.pt --minutes 150
+  train/.venv/bin/python -m deeprep_train.motion.cond train --resume --minutes 150
+  train/.venv/bin/python -m deeprep_train.motion.cond eval --kind root --ckpt cache/cond/gen_N.pt
+  train/.venv/bin/python -m deeprep_train.motion.cond portable
+"""
+import argparse
+import copy
+import json
+import math
+import os
+import time
+
+import numpy as np
+import torch
+import torch.nn as nn
+
+from deeprep_train.paths import ROOT, CACHE
+from deeprep_train.motion.eval import npss
+from deeprep_train.motion.residual import (
+    GATE_FRAMES, PHASE_FRAMES, SCALE, Clips, ResidualTween, Skeleton, arch, fk, from_sixd, key_phase, l2p_sd,
+    mirror, quat_to_mat, rot_y, sample_keys, sixd, slerp, supervised)
+from deeprep_train.motion.residual_adv import quat_mul
+
+OUT = os.path.join(CACHE, "cond")
+PORTABLE = os.path.join(ROOT, "train", "checkpoints", "tween_cond.pt")
+P, R, X = 0, 1, 2
+KIND_NAMES = {"pose": P, "root": R, "xy": X}
+Z = 8  # noise channels
+
+
+def extra_channels(J):
+    """Input channels beyond the whole-pose network's 3 + 6K + 4."""
+    return 1 + 4 + 1 + 4 + 2 * J + Z
+
+
+# ---------------------------------------------------------------- keys and features
+
+def group_phase(group, n):
+    """Phase [n, 4] (s, frames since the previous key / 60, to the next /
+    60, gate) of the frames of an n-frame window towards the keys `group`
+    (sorted frame indices), and the previous / next key per frame (a, b).
+    Between the first and last key exactly `residual.key_phase`'s; before the
+    first key a = b = the first (s = 0), after the last a = b = the last
+    (s = 1), both distances the distance to it. No key: zeros, a = b = 0."""
+    t = torch.arange(n)
+    if not group:
+        z = torch.zeros(n, dtype=torch.long)
+        return torch.zeros(n, 4), z, z
+    if len(group) == 1:
+        k = group[0]
+        a = b = torch.full((n,), k)
+        s = (t > k).float()
+    else:
+        a, b, s = key_phase(group, n)
+        before, after = t < group[0], t > group[-1]
+        a = torch.where(before, group[0], torch.where(after, group[-1], a))
+        b = torch.where(before, group[0], torch.where(after, group[-1], b))
+        s = torch.where(before, 0.0, torch.where(after, 1.0, s))
+    dp, dn = (t - a).abs().float(), (b - t).abs().float()
+    gate = 1 - torch.exp(-torch.minimum(dp, dn) / GATE_FRAMES)
+    return torch.stack([s, dp / PHASE_FRAMES, dn / PHASE_FRAMES, gate], -1), a, b
+
+
+def turn(root, quat, phi):
+    """The window turned about the vertical through the origin by phi."""
+    qy = torch.tensor([math.cos(phi / 2), 0.0, math.sin(phi / 2), 0.0])
+    r = root @ rot_y(torch.tensor(phi)).T
+    q = quat.clone()
+    q[:, 0] = quat_mul(qy.expand_as(q[:, 0]), q[:, 0])
+    return r, q
+
+
+def features(skel, prior, root, quat, keys, kinds, noise, offsets):
+    """The network's input pieces for one window. root [N,3], quat [N,K,4]
+    (the truth; only key frames are read for the input), keys (sorted frame
+    indices), kinds (P/R/X per key), noise [Z], offsets [J,3]. Returns
+    (x [C,N], gate_root [N], gate_rot [N], base_root [N,3], base_rot
+    [N,K,3,3], gt_root [N,3], gt_rot [N,K,3,3]), all in the canonical frame."""
+    n = root.shape[0]
+    pk = [k for k, c in zip(keys, kinds) if c == P]
+    xk = [k for k, c in zip(keys, kinds) if c in (P, X)]
+    k0 = keys[0]
+    if kinds[0] == P and X not in kinds:
+        R0 = quat_to_mat(quat[k0, 0])
+        f = R0[:, 2]
+        C = rot_y(-torch.atan2(f[0], f[2]))
+    else:
+        C = torch.eye(3)
+    off = torch.stack([root[k0, 0], torch.zeros(()), root[k0, 2]])
+    gt_root = (root - off) @ C.T
+    gt_rot = quat_to_mat(quat)
+    gt_rot = torch.cat([(C @ gt_rot[:, 0]).unsqueeze(1), gt_rot[:, 1:]], 1)
+    ph_all, a, b = group_phase(keys, n)
+    base_root = gt_root[a] + ph_all[:, :1] * (gt_root[b] - gt_root[a])
+    ph_p, a, b = group_phase(pk, n)
+    if pk:
+        base_q = slerp(quat[a], quat[b], ph_p[:, :1].expand(-1, quat.shape[1]))
+        base_rot = quat_to_mat(base_q)
+        base_rot = torch.cat([(C @ base_rot[:, 0]).unsqueeze(1), base_rot[:, 1:]], 1)
+        gate_rot = ph_p[:, 3]
+    else:
+        base_rot = quat_to_mat(prior).expand(n, -1, -1, -1)
+        gate_rot = torch.ones(n)
+    ph_x, a, b = group_phase(xk, n)
+    if xk:
+        pos = fk(skel, gt_root[None, xk], gt_rot[None, xk], offsets[None])[0]
+        xy = (pos - pos[:, :1])[..., :2].reshape(len(xk), -1) / SCALE   # [len(xk), 2J]
+        idx = {k: i for i, k in enumerate(xk)}
+        ia = torch.tensor([idx[int(v)] for v in a])
+        ib = torch.tensor([idx[int(v)] for v in b])
+        xy = xy[ia] + ph_x[:, :1] * (xy[ib] - xy[ia])
+    else:
+        xy = torch.zeros(n, 2 * len(skel.parents))
+    flag_p = torch.full((n, 1), float(bool(pk)))
+    flag_x = torch.full((n, 1), float(bool(xk)))
+    x = torch.cat([base_root / SCALE, sixd(base_rot).reshape(n, -1), ph_p, flag_p, ph_all, flag_x, ph_x, xy,
+                   noise.expand(n, -1)], -1).T
+    return x, ph_all[:, 3], gate_rot, base_root, base_rot, gt_root, gt_rot
+
+
+def sample_kinds(keys, rng):
+    """What each key gives, drawn as users give keys: all whole poses
+    (20%), all root positions (35%), all 2-D (20%) or a mix (25%)."""
+    r = rng.random()
+    if r < 0.2:
+        return [P] * len(keys)
+    if r < 0.55:
+        return [R] * len(keys)
+    if r < 0.75:
+        return [X] * len(keys)
+    return [int(c) for c in rng.choice([P, R, X], size=len(keys), p=[0.3, 0.4, 0.3])]
+
+
+def prior_pose(clips):
+    """The training takes' mean local rotation per joint (quaternions [K,4],
+    sign-aligned to the first frame's), the root's the identity."""
+    q = clips.quat
+    q = torch.where(((q * q[:1]).sum(-1, keepdim=True) < 0), -q, q)
+    m = q.mean(0)
+    m = m / m.norm(dim=-1, keepdim=True)
+    m[0] = torch.tensor([1.0, 0.0, 0.0, 0.0])
+    return m
+
+
+# ---------------------------------------------------------------- network
+
+class CondTween(nn.Module):
+    """[B, 3 + 6K + 4 + extra, N] -> residual [B, 3 + 6K, N]: the whole-pose
+    network's blocks with a wider input convolution (and skip)."""
+
+    def __init__(self, K, J, width, dilations, stride=1, skip=False):
+        super().__init__()
+        self.core = ResidualTween(K, width, dilations, stride, skip)
+        self.K, self.J = K, J
+        cin = 3 + 6 * K + 4 + extra_channels(J)
+        old = self.core.inp
+        self.core.inp = nn.Conv1d(cin, width, 3, padding=1, stride=stride)
+        with torch.no_grad():
+            self.core.inp.weight.zero_()
+            self.core.inp.weight[:, :old.in_channels] = old.weight
+            self.core.inp.bias.copy_(old.bias)
+        if skip:
+            self.core.skip = nn.Conv1d(cin, width, 1)
+            nn.init.zeros_(self.core.skip.weight)
+            nn.init.zeros_(self.core.skip.bias)
+
+    def forward(self, x):
+        return self.core(x)
+
+    def arch(self):
+        return {**self.core.arch(), "J": self.J, "Z": Z}
+
+
+def widen(state, cin):
+    """A whole-pose checkpoint's weights with the input (and skip)
+    convolution widened to cin input channels, the new ones at zero, under
+    CondTween's names."""
+    out = {}
+    for k, v in state.items():
+        v = v.float()
+        if k in ("inp.weight", "skip.weight") and v.shape[1] < cin:
+            w = torch.zeros(v.shape[0], cin, v.shape[2])
+            w[:, :v.shape[1]] = v
+            v = w
+        out["core." + k] = v
+    return out
+
+
+def build(s):
+    a = arch(s)
+    return CondTween(a["K"], int(s["J"]), a["width"], a["dilations"], a["stride"], a["skip"])
+
+
+def load_ema(path, device="cpu"):
+    s = torch.load(path, map_location="cpu")
+    net = build(s)
+    net.load_state_dict({k: v.float() for k, v in s["ema"].items()})
+    return net.to(device).eval(), s
+
+
+def apply(net, x, gate_root, gate_rot, base_root, base_rot):
+    """The output motion: root [B,N,3], rotations [B,N,K,3,3]."""
+    B, N, K = base_rot.shape[:3]
+    res = net(x).transpose(1, 2)
+    root = base_root + res[..., :3] * SCALE * gate_root.unsqueeze(-1)
+    r6 = sixd(base_rot).reshape(B, N, K, 6) + res[..., 3:].reshape(B, N, K, 6) * gate_rot[..., None, None]
+    return root, from_sixd(r6)
+
+
+# ---------------------------------------------------------------- training
+
+def spread(d, skel):
+    """The per-coordinate spread L2P divides by: residual.l2p_sd (from
+    motion/data.py's cache, which needs the CLI built) when that cache
+    exists, else the same statistic from resid60.npz's training takes
+    (global positions of 300-frame windows every 150 frames, each re-centred
+    on its first frame's root x/z)."""
+    if os.path.exists(os.path.join(CACHE, "l2p_sd.npy")) or os.path.exists(os.path.join(CACHE, "motion60.npz")):
+        return l2p_sd()
+    clips = Clips(d, "train")
+    chunks = []
+    for s0, ln in zip(clips.starts, clips.lens):
+        for a in range(int(s0), int(s0 + ln) - 300, 150):
+            with torch.no_grad():
+                pos = fk(skel, clips.root[None, a:a + 300], quat_to_mat(clips.quat[None, a:a + 300]),
+                         skel.offsets[None])[0]
+            pos[:, :, [0, 2]] -= pos[0, 0, [0, 2]].clone()
+            chunks.append(pos.reshape(300, -1).numpy())
+    return np.concatenate(chunks).std(0) + 1e-6
+
+
+def make_batch(clips, skel, prior, b, n, rng, do_mirror, device):
+    xs, gr_, gq_, br, bq, tr, tq, offs = [], [], [], [], [], [], [], []
+    for _ in range(b):
+        root, quat = clips.window(n, rng)
+        off = skel.offsets
+        if do_mirror and rng.random() < 0.5:
+            root, quat = mirror(root, quat, skel)
+            off = skel.mirror_offsets
+        root, quat = turn(root, quat, rng.uniform(-math.pi, math.pi))
+        # half the windows with intervals of at least 0.5 s (a root path's keys)
+        keys = sample_keys(n, rng, lo=30 if rng.random() < 0.5 else 15)
+        kinds = sample_kinds(keys, rng)
+        noise = torch.from_numpy(rng.standard_normal(Z)).float()
+        f = features(skel, prior, root, quat, keys, kinds, noise, off)
+        for lst, v in zip((xs, gr_, gq_, br, bq, tr, tq), f):
+            lst.append(v)
+        offs.append(off)
+    return [torch.stack(v).to(device) for v in (xs, gr_, gq_, br, bq, tr, tq, offs)]
+
+
+def losses(net, skel, batch, w):
+    x, g_root, g_rot, base_root, base_rot, gt_root, gt_rot, offs = batch
+    root, rot = apply(net, x, g_root, g_rot, base_root, base_rot)
+    pos = fk(skel, root, rot, offs) / SCALE
+    gpos = fk(skel, gt_root, gt_rot, offs) / SCALE
+    out = supervised(skel, root, rot, pos, gt_root, gt_rot, gpos, w)
+    out["total"] = sum(w[k] * v for k, v in out.items() if w.get(k))
+    return out
+
+
+def train(args):
+    torch.set_num_threads(args.threads)
+    torch.manual_seed(args.seed)
+    rng = np.random.default_rng(args.seed)
+    d = np.load(args.data)
+    skel = Skeleton(d)
+    clips = Clips(d, "train")
+    J = len(skel.parents)
+    dev = torch.device(args.device)
+    ck = os.path.join(args.out, "ckpt.pt")
+    os.makedirs(args.out, exist_ok=True)
+    src = None
+    if args.resume:
+        src = ck if os.path.exists(ck) else args.portable if os.path.exists(args.portable) else None
+        if src is None:
+            raise SystemExit(f"--resume: neither {ck} nor {args.portable} exists (start with --init)")
+    step, opt_state = 0, None
+    if src:
+        s = torch.load(src, map_location="cpu")
+        net = build(s)
+        net.load_state_dict({k: v.float() for k, v in s["net"].items()})
+        ema = build(s)
+        ema.load_state_dict({k: v.float() for k, v in s["ema"].items()})
+        prior = s["prior"].float()
+        step, opt_state = s["step"], s.get("opt")
+        rng = np.random.default_rng(args.seed + step)
+        print(f"resumed {src} at step {step}", flush=True)
+    elif args.init:
+        s = torch.load(args.init, map_location="cpu")
+        a = arch(s)
+        net = CondTween(a["K"], J, a["width"], a["dilations"], a["stride"], a["skip"])
+        cin = net.core.inp.in_channels
+        net.load_state_dict(widen(s["ema"], cin))
+        ema = copy.deepcopy(net)
+        prior = prior_pose(clips)
+        print(f"started from {args.init} (whole-pose network, step {s['step']}; {cin - 3 - 6 * a['K'] - 4} "
+              "new input channels at zero)", flush=True)
+    else:
+        raise SystemExit("train needs --init WHOLE_POSE_CHECKPOINT or --resume")
+    net.to(dev)
+    ema.to(dev)
+    opt = torch.optim.Adam(net.parameters(), lr=args.lr)
+    if opt_state is not None:
+        opt.load_state_dict(opt_state)
+    for g in opt.param_groups:
+        g["lr"] = args.lr
+    print(f"parameters: {sum(p.numel() for p in net.parameters()):,}", flush=True)
+    w = {"pos": 1.0, "rot": 0.5, "root": 1.0, "vel": 1.0, "speed": args.speed_weight, "foot": args.foot_weight,
+         "l2p": args.l2p_weight, "spectral": args.spectral_weight}
+    skel.inv_sd = torch.from_numpy(1.0 / spread(d, skel)).float().to(dev)
+    log = open(os.path.join(args.out, "log.jsonl"), "a")
+    t0, last, acc = time.time(), time.time(), {}
+
+    def save():
+        state = {"net": net.state_dict(), "ema": ema.state_dict(), "opt": opt.state_dict(), "step": step,
+                 "prior": prior, **net.arch()}
+        torch.save(state, ck + ".tmp")
+        os.replace(ck + ".tmp", ck)
+
+    while time.time() - t0 < args.minutes * 60:
+        batch = make_batch(clips, skel, prior, args.batch, args.frames, rng, args.mirror, dev)
+        out = losses(net, skel, batch, w)
+        opt.zero_grad()
+        out["total"].backward()
+        torch.nn.utils.clip_grad_norm_(net.parameters(), 1.0)
+        opt.step()
+        with torch.no_grad():
+            for pe, pn in zip(ema.parameters(), net.parameters()):
+                pe.mul_(args.ema).add_(pn, alpha=1 - args.ema)
+        step += 1
+        for k, v in out.items():
+            acc[k] = acc.get(k, 0.0) + float(v.detach())
+        if step % 50 == 0:
+            rec = {"step": step, "t": round(time.time() - t0), **{k: v / 50 for k, v in acc.items()}}
+            log.write(json.dumps(rec) + "\n")
+            log.flush()
+            acc = {}
+            if time.time() - last > 60:
+                print(json.dumps(rec), flush=True)
+                last = time.time()
+        if step % args.save_every == 0:
+            save()
+            if step % args.snapshot_every == 0:
+                torch.save({"ema": ema.state_dict(), "step": step, "prior": prior, **net.arch()},
+                           os.path.join(args.out, f"gen_{step}.pt"))
+    save()
+    print(f"done at step {step}", flush=True)
+
+
+# ---------------------------------------------------------------- evaluation
+
+def evaluate(args):
+    """Keys of one kind (--kind) at frames s, s+g, s+2g of every segment
+    (windows of 2g+1 frames stepping by 2g, as residual.evaluate): MPJPE,
+    NPSS on root-relative positions, joint speed relative to the root as a
+    share of the truth's, the root-relative position error at the key
+    frames, and foot skating (mean horizontal speed of a foot or toe within 5
+    units of the window's floor, per frame) against the truth's."""
+    torch.set_num_threads(args.threads)
+    d = np.load(args.data)
+    skel = Skeleton(d)
+    clips = Clips(d, args.split)
+    net, s = load_ema(args.ckpt)
+    prior = s["prior"].float()
+    kind = KIND_NAMES[args.kind]
+    noise = torch.zeros(Z)
+    res = {}
+    for g in args.gaps:
+        n = 2 * g + 1
+        keys = [0, g, 2 * g]
+        mid = [t for t in range(n) if t not in keys]
+        acc = {"mpjpe": [], "key_err": [], "speed": [], "gt_speed": [], "skate": [], "gt_skate": [], "pred": [],
+               "gt": []}
+        for si in range(len(clips.lens)):
+            a0 = int(clips.starts[si])
+            for s0 in range(0, int(clips.lens[si]) - n + 1, 2 * g):
+                root = clips.root[a0 + s0:a0 + s0 + n]
+                quat = clips.quat[a0 + s0:a0 + s0 + n]
+                f = features(skel, prior, root, quat, keys, [kind] * 3, noise, skel.offsets)
+                x, g_root, g_rot, base_root, base_rot, gt_root, gt_rot = [v.unsqueeze(0) for v in f]
+                offs = skel.offsets.unsqueeze(0)
+                with torch.no_grad():
+                    r, q = apply(net, x, g_root, g_rot, base_root, base_rot)
+                pos = fk(skel, r, q, offs)[0]
+                gpos = fk(skel, gt_root, gt_rot, offs)[0]
+                rel, grel = pos - pos[:, :1], gpos - gpos[:, :1]
+                acc["mpjpe"].append(float((pos - gpos)[mid].norm(dim=-1).mean()))
+                acc["key_err"].append(float((rel - grel)[keys].norm(dim=-1).mean()))
+                acc["speed"].append(float(rel.diff(dim=0).norm(dim=-1).mean()))
+                acc["gt_speed"].append(float(grel.diff(dim=0).norm(dim=-1).mean()))
+                for p_, k_ in ((pos, "skate"), (gpos, "gt_skate")):
+                    fp = p_[:, skel.feet]
+                    low = fp[1:, :, 1] < fp[..., 1].min() + 5
+                    v = fp.diff(dim=0)[..., [0, 2]].norm(dim=-1)
+                    acc[k_].append(float((v * low).sum() / max(1, int(low.sum()))))
+                acc["pred"].append(rel[mid].reshape(len(mid), -1).numpy())
+                acc["gt"].append(grel[mid].reshape(len(mid), -1).numpy())
+        row = {"windows": len(acc["mpjpe"]), "mpjpe": float(np.mean(acc["mpjpe"])),
+               "key_err": float(np.mean(acc["key_err"])),
+               "speed_ratio": float(np.mean(acc["speed"]) / np.mean(acc["gt_speed"])),
+               "skate_ratio": float(np.mean(acc["skate"]) / max(1e-9, np.mean(acc["gt_skate"]))),
+               "npss": npss(np.stack(acc["gt"]), np.stack(acc["pred"]))}
+        res[g] = row
+        print(args.kind, g, json.dumps(row), flush=True)
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump({"split": args.split, "kind": args.kind, "ckpt": args.ckpt, "step": int(s["step"]),
+                       "gaps": res}, fh, indent=1)
+    return res
+
+
+def portable(args):
+    """The running checkpoint's weights and moving average in float16 (with
+    the prior pose), to train/checkpoints/tween_cond.pt (or --to)."""
+    s = torch.load(args.ckpt or os.path.join(args.out, "ckpt.pt"), map_location="cpu")
+    half = {k: {n: v.half() for n, v in s[k].items()} for k in ("net", "ema")}
+    to = args.to or PORTABLE
+    os.makedirs(os.path.dirname(os.path.abspath(to)), exist_ok=True)
+    torch.save({**half, "step": s["step"], "prior": s["prior"], **arch(s), "J": s["J"], "Z": s["Z"]}, to)
+    print(f"wrote {to} (step {s['step']}, {os.path.getsize(to) / 1e6:.1f} MB)")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("cmd", choices=["train", "eval", "portable"])
+    ap.add_argument("--data", default=os.path.join(CACHE, "resid60.npz"))
+    ap.add_argument("--out", default=OUT)
+    ap.add_argument("--init", help="train: the whole-pose checkpoint this network starts from")
+    ap.add_argument("--resume", action="store_true")
+    ap.add_argument("--portable", default=PORTABLE)
+    ap.add_argument("--to")
+    ap.add_argument("--minutes", type=float, default=60)
+    ap.add_argument("--threads", type=int, default=1)
+    ap.add_argument("--device", default="cpu")
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--batch", type=int, default=8)
+    ap.add_argument("--frames", type=int, default=480)
+    ap.add_argument("--lr", type=float, default=2e-4)
+    ap.add_argument("--ema", type=float, default=0.999)
+    ap.add_argument("--mirror", type=int, default=1)
+    ap.add_argument("--speed-weight", type=float, default=15.0)
+    ap.add_argument("--foot-weight", type=float, default=2.0)
+    ap.add_argument("--l2p-weight", type=float, default=1.0)
+    ap.add_argument("--spectral-weight", type=float, default=5.0)
+    ap.add_argument("--save-every", type=int, default=250)
+    ap.add_argument("--snapshot-every", type=int, default=1000)
+    ap.add_argument("--split", default="train")
+    ap.add_argument("--kind", choices=sorted(KIND_NAMES), default="root")
+    ap.add_argument("--ckpt")
+    ap.add_argument("--gaps", type=lambda s: [int(x) for x in s.split(",")], default=[60, 120, 300])
+    ap.add_argument("--json")
+    args = ap.parse_args()
+    {"train": train, "eval": evaluate, "portable": portable}[args.cmd](args)
+
+
+if __name__ == "__main__":
+    main()
