@@ -4,15 +4,26 @@
 # decoder) into web/pkg-core, which the in-betweening worker loads (a smaller
 # download), with a relaxed-SIMD twin of its .wasm (scripts/build-relaxed-core.sh).
 # The two plain builds share one target directory: only the crate recompiles.
-#   scripts/build-wasm.sh          release build, unoptimized .wasm (fast)
-#   scripts/build-wasm.sh --opt    plus wasm-opt -Os (npm binaryen; Debian's is too old)
+#   scripts/build-wasm.sh              release build, unoptimized .wasm (fast)
+#   scripts/build-wasm.sh --opt        plus wasm-opt -Os (npm binaryen; Debian's is too old)
+#   scripts/build-wasm.sh --pages-only only web/pkg, one build (the demo's): the worker's core
+#                                      is then served from it (scripts/serve.mjs), plain SIMD
 set -euo pipefail
 source "$(dirname "$0")/wasm-env.sh"
 cd "$ROOT"
-OPT=0; [ "${1:-}" = "--opt" ] && OPT=1
+OPT=0; PAGES_ONLY=0
+for a in "$@"; do
+  case "$a" in
+    --opt) OPT=1 ;;
+    --pages-only) PAGES_ONLY=1 ;;
+    *) echo "build-wasm.sh: unknown option $a" >&2; exit 2 ;;
+  esac
+done
 t0=$(date +%s)
 WASM=target/wasm32-unknown-unknown/release/deeprep.wasm
-for out in pkg-core pkg; do
+outs=(pkg-core pkg)
+if [ "$PAGES_ONLY" = 1 ]; then outs=(pkg); rm -rf web/pkg-core; fi
+for out in "${outs[@]}"; do
   if [ "$out" = pkg ]; then features=(); else features=(--no-default-features --features onnx); fi
   cargo build -p deeprep --lib --release "${features[@]}" "${WASM_CARGO_FLAGS[@]}"
   rm -rf "web/$out"
@@ -23,6 +34,10 @@ for out in pkg-core pkg; do
       --enable-sign-ext --enable-multivalue --enable-mutable-globals
   fi
 done
+if [ "$PAGES_ONLY" = 1 ]; then
+  echo "{\"pages_only\": 1, \"build_seconds\": $(( $(date +%s) - t0 ))}"
+  exit 0
+fi
 # the core again with relaxed SIMD: web/pkg-core/deeprep_relaxed_bg.wasm
 bash scripts/build-relaxed-core.sh web/pkg-core
 # the full package is built last, so target/ holds it for the wasm tests

@@ -4,6 +4,10 @@
 // copied), at /shared-data/gltf/*.glb: from $DEEPREP_DATA, by default
 // ../shared/data beside the served directory. The mesh page loads the robot
 // from there; without it, the page asks for the file.
+// Where web/pkg-core/ (the worker's smaller build) was not built, as after
+// `scripts/build-wasm.sh --pages-only` (the demo's one build), its files are
+// served from web/pkg/, the full package, which holds everything the worker
+// imports; the relaxed-SIMD twin is then absent and the worker runs plain SIMD.
 import http from 'node:http';
 import fs from 'node:fs';
 import path from 'node:path';
@@ -35,6 +39,10 @@ export function serve(dir, port = 0, host = '127.0.0.1') {
     } else {
       p = path.normalize(path.join(root, pathname));
       if (!p.startsWith(root)) { res.writeHead(403); res.end(); return; }
+      const core = path.join(root, 'web', 'pkg-core');
+      if (p.startsWith(core + path.sep) && !fs.existsSync(core)) {
+        p = path.join(root, 'web', 'pkg', path.relative(core, p));
+      }
     }
     try {
       if (fs.existsSync(p) && fs.statSync(p).isDirectory()) p = path.join(p, 'index.html');

@@ -17,7 +17,7 @@ summary() {
   printf '\n==== summary: seconds per section\n'
   for i in "${!names[@]}"; do
     local next=${starts[$((i + 1))]:-$end}
-    printf '%6s  %s\n' "$(( next - starts[i] ))" "${names[$i]%%:*}"
+    printf '%6s  %s\n' "$(( next - starts[i] ))" "${names[$i]:0:70}"
   done
   printf '%6s  total\n' "$(( end - t_start ))"
 }

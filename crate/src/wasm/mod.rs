@@ -5,6 +5,7 @@
 //! CPU API alone (what the synthesis worker loads).
 
 mod bvh;
+mod dna;
 mod hair;
 #[cfg(feature = "gpu")]
 mod hair_gpu;
@@ -17,6 +18,7 @@ mod rotation;
 mod viewer;
 
 pub use bvh::BvhClip;
+pub use dna::{dna_frames_of_clip, dna_frames_of_pool};
 pub use hair::HairLab;
 #[cfg(feature = "gpu")]
 pub use hair_gpu::GpuHairDecoder;
