@@ -5,6 +5,8 @@ use deeprep::Error;
 use std::path::PathBuf;
 
 mod common;
+#[path = "bvh/retarget.rs"]
+mod retarget;
 
 /// A small skeleton the project makes itself: a 6-channel root, two
 /// branches, mixed channel orders, a joint with position channels, and End

@@ -6,11 +6,14 @@
 //!   writer of a BVH channel row.
 //! - [`fk`]: forward kinematics from BVH channels to global positions.
 //! - [`resample`]: frame-rate conversion (slerped rotations).
+//! - [`retarget`]: humanoid roles found by name, motion carried between
+//!   skeletons (rest alignment per bone, world-space rotation changes).
 
 pub mod bvh;
 pub mod fk;
 pub mod pose;
 pub mod resample;
+pub mod retarget;
 
 pub use bvh::{Bvh, Channel, Joint};
 pub use pose::Pose;

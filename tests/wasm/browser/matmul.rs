@@ -68,8 +68,8 @@ fn the_own_matmul_kernel_computes_products_of_any_shape() {
     );
 }
 
-const MESH_ENCODER: &[u8] = include_bytes!("../../models/onnx/mesh_encoder.onnx");
-const MESH_DECODER: &[u8] = include_bytes!("../../models/onnx/mesh_decoder.onnx");
+const MESH_ENCODER: &[u8] = include_bytes!("../../../models/onnx/mesh_encoder.onnx");
+const MESH_DECODER: &[u8] = include_bytes!("../../../models/onnx/mesh_decoder.onnx");
 
 /// Every bundled network gives the same outputs with deeprep's matrix kernel
 /// as with tract's (their fused bias, activations, residual additions and

@@ -178,3 +178,90 @@ fn export_clip(path: &str, prefix: &str) -> Result<(), String> {
         .map_err(|e| format!("{mp}: {e}"))?;
     Ok(())
 }
+
+/// The model's skeleton: the template in `DIR/tween_generator.manifest.json`.
+fn model_skeleton(models: &str) -> Result<Bvh, String> {
+    let p = std::path::Path::new(models).join("tween_generator.manifest.json");
+    let text = std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))?;
+    deeprep::motion::manifest::parse(&text)
+        .map(|m| m.template)
+        .map_err(|e| format!("{}: {e}", p.display()))
+}
+
+/// A `--map MAP.json` file (role name -> joint name).
+fn load_map(
+    path: Option<&str>,
+) -> Result<std::collections::BTreeMap<String, Option<String>>, String> {
+    match path {
+        None => Ok(Default::default()),
+        Some(p) => {
+            let text = std::fs::read_to_string(p).map_err(|e| format!("{p}: {e}"))?;
+            deeprep::skeleton::retarget::parse_map(&text).map_err(|e| format!("{p}: {e}"))
+        }
+    }
+}
+
+/// `deeprep bvh roles FILE [--map MAP.json]`: the humanoid roles found,
+/// as a JSON map file (role -> joint name).
+pub fn roles(rest: &[&str]) -> Result<(), CliError> {
+    let (file, map) = match rest {
+        [file] => (*file, None),
+        [file, "--map", m] | ["--map", m, file] => (*file, Some(*m)),
+        _ => return Err(CliError::Usage),
+    };
+    let b = load(file)?;
+    let overrides = load_map(map)?;
+    let rm = deeprep::skeleton::retarget::RoleMap::with_overrides(&b, &overrides)
+        .map_err(|e| format!("{file}: {e}"))?;
+    let json = serde_json::to_string_pretty(&rm.names(&b)).map_err(|e| e.to_string())?;
+    emit(&(json + "\n"))?;
+    Ok(())
+}
+
+/// `deeprep bvh retarget SRC.bvh --to model|TARGET.bvh [--map MAP.json]
+/// [--models DIR] -o OUT.bvh`.
+pub fn retarget(rest: &[&str]) -> Result<(), CliError> {
+    let mut it = rest.iter();
+    let (mut src, mut to, mut map, mut out, mut models) = (None, None, None, None, "models/onnx");
+    while let Some(&a) = it.next() {
+        let mut value = |flag: &str| {
+            it.next()
+                .copied()
+                .ok_or_else(|| CliError::from(format!("{flag} needs a value")))
+        };
+        match a {
+            "--to" => to = Some(value("--to")?),
+            "--map" => map = Some(value("--map")?),
+            "-o" | "--out" => out = Some(value("-o")?),
+            "--models" => models = value("--models")?,
+            f if f.starts_with('-') => return Err(format!("unknown option '{f}'").into()),
+            f if src.is_none() => src = Some(f),
+            _ => return Err(CliError::Usage),
+        }
+    }
+    let (Some(src), Some(to), Some(out)) = (src, to, out) else {
+        return Err(CliError::Usage);
+    };
+    let s = load(src)?;
+    let target = if to == "model" {
+        model_skeleton(models)?
+    } else {
+        load(to)?
+    };
+    let overrides = load_map(map)?;
+    let r = deeprep::skeleton::retarget::Retarget::between(&s, &target, &overrides)
+        .map_err(|e| format!("{src} -> {to}: {e}"))?;
+    let b = r
+        .clip(&s, &target, None)
+        .map_err(|e| format!("{src}: {e}"))?;
+    std::fs::write(out, b.write()).map_err(|e| format!("{out}: {e}"))?;
+    eprintln!(
+        "wrote {out}: {} frames at {:.3} fps on {to}'s skeleton ({} joints); {} roles followed, root translation scaled by {:.4} (leg length)",
+        b.frame_count(),
+        b.fps(),
+        b.joints.len(),
+        r.pairs.len(),
+        r.scale
+    );
+    Ok(())
+}

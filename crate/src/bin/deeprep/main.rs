@@ -24,6 +24,14 @@ const USAGE: &str = "usage:
       (frames x joints x 3 global positions) and PREFIX.rc.f32 (frames x (3 + 6 + 3K):
       root position, root 6D, range-constrained Euler angles in radians, clamped to
       Table D.1), little-endian f32; for the training pipeline
+  deeprep bvh roles FILE [--map MAP.json]
+      the humanoid roles found in FILE's skeleton (hips, spine, chest, neck, head; per side
+      collar, upper arm, forearm, hand, buttock, thigh, shin, foot, toe) as a JSON map file
+  deeprep bvh retarget SRC.bvh --to model|TARGET.bvh [--map MAP.json] [--models DIR] -o OUT.bvh
+      SRC's motion on the model's skeleton or TARGET's (its hierarchy, rest pose and channel
+      orders), at SRC's frame rate: each bone aimed where SRC's bone points (rest poses
+      aligned per bone: T-pose or A-pose), the root path scaled by leg length, unmapped joints
+      at rest; MAP.json ({\"leftShin\": \"L_Knee\", ...}) replaces roles found in SRC by name
   deeprep inbetween --from-bvh CLIP.bvh --keys F1,F2,... -o OUT.bvh
           [--method model|generator|residual|slerp|zerovel] [--models DIR] [--no-post] [--foot-lock] [--variation V]
           [--dna F1,F2,...|DNA.bvh [--seed S]] [--key-kind pose|root|xy]
@@ -110,6 +118,14 @@ const COMMANDS: &[Command] = &[
     Command {
         words: &["bvh", "export"],
         run: bvh::export,
+    },
+    Command {
+        words: &["bvh", "roles"],
+        run: bvh::roles,
+    },
+    Command {
+        words: &["bvh", "retarget"],
+        run: bvh::retarget,
     },
     Command {
         words: &["inbetween"],
