@@ -625,3 +625,5 @@ mod clips;
 mod keys;
 #[path = "motion/pipeline.rs"]
 mod pipeline;
+#[path = "motion/retargeted.rs"]
+mod retargeted;

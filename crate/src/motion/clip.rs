@@ -2,11 +2,14 @@
 //! --keys F1,F2,...`, JS `synthesizeFromBvh`): whole-pose keys taken from
 //! frames of the clip, the motion between the first and the last key
 //! synthesized, everything else copied. Clips at another frame rate are
-//! resampled to the model's 60 fps and the result back to theirs.
+//! resampled to the model's 60 fps and the result back to theirs. Clips on
+//! another humanoid skeleton are retargeted onto the model's ([`OnModel`])
+//! and the result back onto theirs.
 
 use super::{Keyframe, Motion};
 use crate::error::{Error, Result};
 use crate::skeleton::resample::{map_frame, resample};
+use crate::skeleton::retarget::{find_roles, Retarget, Role, RoleMap, Side};
 use crate::skeleton::Bvh;
 
 /// The networks' frame rate.
@@ -201,4 +204,86 @@ pub fn splice(clip: &Bvh, ck: &ClipKeys, motion: &Motion) -> Result<Bvh> {
         out.motion[f * c..(f + 1) * c].copy_from_slice(&clip.motion[f * c..(f + 1) * c]);
     }
     Ok(out)
+}
+
+/// Roles the model's motion never rotates: every frame of the CMU data it
+/// was trained on holds 0 in the collars' and the buttocks' channels. A
+/// retargeted clip that rotated them would be unlike anything the networks
+/// saw (the residual network's output on such keys left the key poses by
+/// 40 units in one frame, on cmu-extra's cmu-hips 02_01); unmapped, their
+/// share goes to the upper arms and the thighs.
+pub const MODEL_REST_ROLES: [Role; 4] = [
+    Role::Collar(Side::Left),
+    Role::Collar(Side::Right),
+    Role::Buttock(Side::Left),
+    Role::Buttock(Side::Right),
+];
+
+/// The humanoid roles of the model's skeleton that retargeting follows
+/// (all but [`MODEL_REST_ROLES`]).
+pub fn model_roles(skeleton: &Bvh) -> Result<RoleMap> {
+    Ok(find_roles(skeleton)?.without(&MODEL_REST_ROLES))
+}
+
+/// A user's clip on the model's skeleton: the clip itself when it is on it
+/// ([`check_skeleton`]), otherwise retargeted onto it
+/// ([`crate::skeleton::retarget`]), with the way back.
+#[derive(Clone, Debug)]
+pub struct OnModel {
+    /// The clip on the model's skeleton, at the user's frame rate and length.
+    pub clip: Bvh,
+    /// The model's skeleton → the user's, when the clip was retargeted.
+    back: Option<Retarget>,
+}
+
+impl OnModel {
+    /// `user` on `skeleton` (the model's). Errors when the clip is neither
+    /// on the model's skeleton nor a humanoid whose roles can be found,
+    /// with both reasons.
+    pub fn new(user: &Bvh, skeleton: &Bvh) -> Result<OnModel> {
+        let Err(not_model) = check_skeleton(user, skeleton) else {
+            return Ok(OnModel {
+                clip: user.clone(),
+                back: None,
+            });
+        };
+        let fail = |e: Error| {
+            Error::Invalid(format!(
+                "{not_model}; and it cannot be retargeted onto it: {e}"
+            ))
+        };
+        let um = find_roles(user).map_err(fail)?;
+        let mm = model_roles(skeleton)?;
+        let there = Retarget::new(user, &um, skeleton, &mm).map_err(fail)?;
+        let back = Retarget::new(skeleton, &mm, user, &um).map_err(fail)?;
+        Ok(OnModel {
+            clip: there.clip(user, skeleton, None)?,
+            back: Some(back),
+        })
+    }
+
+    /// True when the clip was retargeted.
+    pub fn retargeted(&self) -> bool {
+        self.back.is_some()
+    }
+
+    /// A result made from [`OnModel::clip`] (the model's skeleton, the
+    /// clip's length and rate; keys `ck`) on the user's skeleton: retargeted
+    /// back with the user's unmapped joints (fingers, twist bones) carried
+    /// from their clip, and the frames outside the keys' span and the keys
+    /// themselves the user's own rows.
+    pub fn back(&self, user: &Bvh, result: Bvh, ck: &ClipKeys) -> Result<Bvh> {
+        let Some(r) = &self.back else {
+            return Ok(result);
+        };
+        let mut out = r.clip(&result, user, Some(user))?;
+        let c = user.channel_count();
+        let (a, b) = ck.span();
+        let keep = |f: usize| f < a || f > b || ck.clip_frames.contains(&f);
+        for f in (0..user.frame_count()).filter(|&f| keep(f)) {
+            out.motion[f * c..(f + 1) * c].copy_from_slice(&user.motion[f * c..(f + 1) * c]);
+        }
+        out.frame_time = user.frame_time;
+        Ok(out)
+    }
 }

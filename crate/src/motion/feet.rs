@@ -16,8 +16,8 @@
 
 use super::post::smoothstep;
 use super::{Keyframe, Motion};
-use crate::rotation::axis_angle::axis_angle_to_matrix;
-use crate::rotation::{cross, dot, identity, mul, mul_vec, norm, transpose, Mat3, Vec3};
+use crate::rotation::{identity, mul, norm, transpose, Vec3};
+use crate::skeleton::two_bone;
 use crate::skeleton::Bvh;
 
 /// Contact detection and blending settings, in BVH units and frames.
@@ -65,29 +65,9 @@ fn sub(a: &Vec3<f64>, b: &Vec3<f64>) -> Vec3<f64> {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
-fn add(a: &Vec3<f64>, b: &Vec3<f64>) -> Vec3<f64> {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-/// The rotation taking direction `u` to direction `v` (shortest arc).
-fn rotation_between(u: &Vec3<f64>, v: &Vec3<f64>) -> Mat3<f64> {
-    let (nu, nv) = (norm(u), norm(v));
-    if nu < 1e-12 || nv < 1e-12 {
-        return identity();
-    }
-    let axis = cross(u, v);
-    let s = norm(&axis);
-    let c = dot(u, v) / (nu * nv);
-    if s < 1e-12 {
-        return identity(); // parallel (the antiparallel case cannot occur for a small swing)
-    }
-    let a = [axis[0] / s, axis[1] / s, axis[2] / s];
-    axis_angle_to_matrix(&a, (s / (nu * nv)).atan2(c))
-}
-
-/// Two-bone IK on one frame: moves the ankle of the chain (thigh, shin,
-/// foot) to `target`, keeping the knee's bend plane and the foot's global
-/// rotation.
+/// Two-bone IK on one frame ([`crate::skeleton::two_bone`]): moves the
+/// ankle of the chain (thigh, shin, foot) to `target`, keeping the knee's
+/// bend plane and the foot's global rotation.
 fn solve_leg(
     m: &mut Motion,
     f: usize,
@@ -98,34 +78,16 @@ fn solve_leg(
 ) {
     let [hip, knee, ankle] = chain;
     let (rot, pos) = m.global_pose(f, parents, offsets);
-    let (h, k, a) = (pos[hip], pos[knee], pos[ankle]);
-    let la = norm(&sub(&k, &h));
-    let lb = norm(&sub(&a, &k));
-    if la < 1e-9 || lb < 1e-9 {
+    let c = two_bone::Chain {
+        h: pos[hip],
+        k: pos[knee],
+        a: pos[ankle],
+        upper: rot[hip],
+        lower: rot[knee],
+    };
+    let Some((thigh_g, shin_g)) = two_bone::solve(&c, target) else {
         return;
-    }
-    let reach = norm(&sub(target, &h)).clamp((la - lb).abs() + 1e-4, la + lb - 1e-4);
-    // Knee: bend so that |ankle - hip| = reach.
-    let u = sub(&h, &k);
-    let w = sub(&a, &k);
-    let mut n = cross(&u, &w);
-    if norm(&n) < 1e-9 {
-        // A straight leg: bend about the thigh's x axis.
-        n = mul_vec(&rot[hip], &[1.0, 0.0, 0.0]);
-    }
-    let nn = norm(&n);
-    let n = [n[0] / nn, n[1] / nn, n[2] / nn];
-    let cur = (dot(&u, &w) / (la * lb)).clamp(-1.0, 1.0).acos();
-    let want = ((la * la + lb * lb - reach * reach) / (2.0 * la * lb))
-        .clamp(-1.0, 1.0)
-        .acos();
-    let bend = axis_angle_to_matrix(&n, want - cur);
-    let shin_g = mul(&bend, &rot[knee]);
-    let a1 = add(&k, &mul_vec(&bend, &w));
-    // Hip: swing the chain so the ankle points at the target.
-    let swing = rotation_between(&sub(&a1, &h), &sub(target, &h));
-    let thigh_g = mul(&swing, &rot[hip]);
-    let shin_g = mul(&swing, &shin_g);
+    };
     let parent_g = parents[hip].map_or(identity(), |p| rot[p]);
     m.rotations[f][hip] = mul(&transpose(&parent_g), &thigh_g);
     m.rotations[f][knee] = mul(&transpose(&thigh_g), &shin_g);

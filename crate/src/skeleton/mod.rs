@@ -8,12 +8,14 @@
 //! - [`resample`]: frame-rate conversion (slerped rotations).
 //! - [`retarget`]: humanoid roles found by name, motion carried between
 //!   skeletons (rest alignment per bone, world-space rotation changes).
+//! - [`two_bone`]: two-bone IK (feet locked, feet placed).
 
 pub mod bvh;
 pub mod fk;
 pub mod pose;
 pub mod resample;
 pub mod retarget;
+pub mod two_bone;
 
 pub use bvh::{Bvh, Channel, Joint};
 pub use pose::Pose;

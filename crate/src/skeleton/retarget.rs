@@ -20,7 +20,11 @@
 //! - **rotations as world-space changes from the rest pose**: a mapped
 //!   target joint's global rotation is the source joint's times `A`, so
 //!   every mapped bone points where the source's points;
-//! - **root translation scaled by leg length** (thigh + shin);
+//! - **root translation scaled by leg length** (the hips' rest distance
+//!   from the ankles, [`hip_height`]);
+//! - **feet placed**: each ankle where the source's is, scaled like the
+//!   root, by two-bone IK on thigh and shin ([`super::two_bone`]), so that
+//!   planted feet stay planted on other proportions;
 //! - **unmapped joints** (fingers, eyes, twist bones) stay at rest, or keep
 //!   their values from a clip on the target skeleton ([`Retarget::clip`]'s
 //!   `carry`: the way back onto a user's own skeleton).
@@ -32,8 +36,12 @@
 use super::bvh::Bvh;
 use super::pose::{offset, Pose};
 use crate::error::{Error, Result};
+use crate::rotation::{from_glam_f64, to_glam_f64};
 use glam::{DMat3, DQuat, DVec3};
 use std::collections::BTreeMap;
+
+/// A position (glam's double-precision vector).
+pub type Vec3 = DVec3;
 
 /// A humanoid joint's role.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -543,6 +551,13 @@ impl RoleMap {
         Ok(())
     }
 
+    /// The map without `roles` (joints a skeleton's motion never rotates:
+    /// the motion they would take goes to the next mapped joint instead).
+    pub fn without(mut self, roles: &[Role]) -> RoleMap {
+        self.joints.retain(|r, _| !roles.contains(r));
+        self
+    }
+
     /// The map as `role name -> joint name` (what `--map` files hold).
     pub fn names(&self, bvh: &Bvh) -> BTreeMap<String, String> {
         self.joints
@@ -657,21 +672,28 @@ pub struct Retarget {
     follow: Vec<Option<(usize, DMat3)>>,
     /// Target hips, source hips.
     hips: (usize, usize),
-    /// Root translation scale: target leg length / source leg length.
+    /// Root translation scale: the target's [`hip_height`] over the source's.
     pub scale: f64,
     /// The mapped pairs, role → (target joint, source joint).
     pub pairs: BTreeMap<Role, (usize, usize)>,
+    /// Per leg whose thigh, shin and foot are mapped with the foot a child
+    /// of the shin and the shin of the thigh on the target: the three
+    /// (target joint, source joint) pairs.
+    legs: Vec<[(usize, usize); 3]>,
 }
 
-fn leg_length(bvh: &Bvh, map: &RoleMap, rest: &[DVec3]) -> f64 {
-    let mut total = 0.0;
-    for s in SIDES {
-        let j = |r| map.joints[&r];
-        total += rest[j(Role::Thigh(s))].distance(rest[j(Role::Shin(s))])
-            + rest[j(Role::Shin(s))].distance(rest[j(Role::Foot(s))]);
-    }
-    let _ = bvh;
-    total / 2.0
+/// The hips' distance from the ankles in the rest pose (legs straight in
+/// every family's rest pose), averaged over the legs: what the root path is
+/// scaled by, so that the scaled hips leave the feet within reach. A
+/// distance, not a height: some files' rest poses are Z-up under a rotated
+/// root.
+pub fn hip_height(map: &RoleMap, rest: &[DVec3]) -> f64 {
+    let hips = rest[map.joints[&Role::Hips]];
+    SIDES
+        .iter()
+        .map(|&s| hips.distance(rest[map.joints[&Role::Foot(s)]]))
+        .sum::<f64>()
+        / 2.0
 }
 
 impl Retarget {
@@ -684,10 +706,10 @@ impl Retarget {
             .filter_map(|(r, &t)| src_map.joints.get(r).map(|&s| (*r, (t, s))))
             .collect();
         let (rs, rd) = (rest_positions(src), rest_positions(dst));
-        let (ls, ld) = (leg_length(src, src_map, &rs), leg_length(dst, dst_map, &rd));
+        let (ls, ld) = (hip_height(src_map, &rs), hip_height(dst_map, &rd));
         if !(ls > NEAR && ld > NEAR && ls.is_finite() && ld.is_finite()) {
             return Err(Error::Invalid(format!(
-                "leg lengths {ls} (source) and {ld} (target) must be positive and finite"
+                "the hips must stand apart from the feet in both rest poses: {ls} (source) and {ld} (target) units"
             )));
         }
         let by_target: BTreeMap<usize, usize> = pairs.values().copied().collect();
@@ -722,7 +744,18 @@ impl Retarget {
             });
             follow[t] = Some((s, a));
         }
+        let legs = SIDES
+            .iter()
+            .filter_map(|&s| {
+                let p = |r| pairs.get(&r).copied();
+                let legs = [p(Role::Thigh(s))?, p(Role::Shin(s))?, p(Role::Foot(s))?];
+                let chained = dst.joints[legs[2].0].parent == Some(legs[1].0)
+                    && dst.joints[legs[1].0].parent == Some(legs[0].0);
+                chained.then_some(legs)
+            })
+            .collect();
         Ok(Retarget {
+            legs,
             follow,
             hips: (dst_map.joints[&Role::Hips], src_map.joints[&Role::Hips]),
             scale: ld / ls,
@@ -773,10 +806,35 @@ impl Retarget {
         let rest = rest_positions(dst);
         let root = hips_line.last().copied().unwrap_or(self.hips.0);
         translations[root] = want - rest[self.hips.0] + offset(&dst.joints[root]);
-        Pose {
+        let mut pose = Pose {
             translations,
             rotations,
+        };
+        // each ankle where the source's is, scaled
+        for &[(thigh, _), (shin, _), (foot, sf)] in &self.legs {
+            let gt = pose.global(dst);
+            let to = |v: DVec3| [v.x, v.y, v.z];
+            let chain = super::two_bone::Chain {
+                h: to(gt.positions[thigh]),
+                k: to(gt.positions[shin]),
+                a: to(gt.positions[foot]),
+                upper: from_glam_f64(&gt.rotations[thigh]),
+                lower: from_glam_f64(&gt.rotations[shin]),
+            };
+            let target = to(g.positions[sf] * self.scale);
+            let Some((upper, lower)) = super::two_bone::solve(&chain, &target) else {
+                continue;
+            };
+            let (upper, lower) = (to_glam_f64(&upper), to_glam_f64(&lower));
+            let parent = dst.joints[thigh]
+                .parent
+                .map(|p| gt.rotations[p])
+                .unwrap_or(DMat3::IDENTITY);
+            pose.rotations[thigh] = parent.transpose() * upper;
+            pose.rotations[shin] = upper.transpose() * lower;
+            pose.rotations[foot] = lower.transpose() * gt.rotations[foot];
         }
+        pose
     }
 
     /// Every frame of `src` on `dst`'s skeleton, at `src`'s frame rate.

@@ -325,7 +325,8 @@ impl Inbetweener {
     }
 
     /// In-betweening inside a user's clip (BVH bytes on the model's
-    /// skeleton, any frame rate): whole-pose keys from its frames
+    /// skeleton or another humanoid's, retargeted onto the model's and the
+    /// result back; any frame rate): whole-pose keys from its frames
     /// `keyFrames` (the clip's own numbering), the motion between the first
     /// and last key synthesized at 60 fps (`method`: "model", "generator",
     /// "residual", "slerp" or "zerovel", planned as for `synthesize` and the
@@ -343,10 +344,12 @@ impl Inbetweener {
         foot_lock: Option<bool>,
     ) -> Result<InbetweenResult, JsError> {
         use crate::motion::clip;
-        let b = crate::skeleton::Bvh::parse_bytes(bvh).map_err(js_err)?;
-        clip::check_skeleton(&b, &self.inner.template).map_err(js_err)?;
+        let user = crate::skeleton::Bvh::parse_bytes(bvh).map_err(js_err)?;
+        // another humanoid skeleton is retargeted onto the model's and back
+        let on_model = clip::OnModel::new(&user, &self.inner.template).map_err(js_err)?;
+        let b = &on_model.clip;
         let frames: Vec<usize> = key_frames.iter().map(|&f| f as usize).collect();
-        let ck = clip::clip_keys(&b, &frames, true).map_err(js_err)?;
+        let ck = clip::clip_keys(b, &frames, true).map_err(js_err)?;
         // the planner decides, as for the CLI's --from-bvh (the residual
         // network for whole-pose keys where its manifest says so)
         let served = crate::motion::serve::serve(
@@ -362,7 +365,8 @@ impl Inbetweener {
         )
         .map_err(js_err)?;
         let motion = &served.motion;
-        let out = clip::splice(&b, &ck, motion).map_err(js_err)?;
+        let out = clip::splice(b, &ck, motion).map_err(js_err)?;
+        let out = on_model.back(&user, out, &ck).map_err(js_err)?;
         let poses = (0..out.frame_count()).map(|f| crate::skeleton::Pose::read(&out, out.frame(f)));
         let (positions, tracks, frames) = positions_and_tracks(&out, poses);
         Ok(InbetweenResult {

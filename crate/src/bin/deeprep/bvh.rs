@@ -249,8 +249,17 @@ pub fn retarget(rest: &[&str]) -> Result<(), CliError> {
         load(to)?
     };
     let overrides = load_map(map)?;
-    let r = deeprep::skeleton::retarget::Retarget::between(&s, &target, &overrides)
-        .map_err(|e| format!("{src} -> {to}: {e}"))?;
+    use deeprep::motion::clip::{check_skeleton, model_roles};
+    use deeprep::skeleton::retarget::{Retarget, RoleMap};
+    let model = model_skeleton(models).ok();
+    // the model's skeleton follows only the roles its motion rotates
+    let roles = |b: &Bvh, o: &std::collections::BTreeMap<String, Option<String>>| match &model {
+        Some(m) if o.is_empty() && check_skeleton(b, m).is_ok() => model_roles(b),
+        _ => RoleMap::with_overrides(b, o),
+    };
+    let sm = roles(&s, &overrides).map_err(|e| format!("{src}: {e}"))?;
+    let tm = roles(&target, &Default::default()).map_err(|e| format!("{to}: {e}"))?;
+    let r = Retarget::new(&s, &sm, &target, &tm).map_err(|e| format!("{src} -> {to}: {e}"))?;
     let b = r
         .clip(&s, &target, None)
         .map_err(|e| format!("{src}: {e}"))?;

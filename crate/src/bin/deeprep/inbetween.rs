@@ -317,13 +317,23 @@ fn inbetween(args: &[&str]) -> Result<(), String> {
         );
     }
     if let Some(clip) = &o.from_bvh {
-        let b = load(clip)?;
-        if uses_network(&o.method) {
+        let user = load(clip)?;
+        // on another humanoid skeleton: retargeted onto the model's, the
+        // result back onto the user's (slerp and zerovel work on any skeleton)
+        let on_model = if uses_network(&o.method) {
             let tpl = model_skeleton(&o)?;
-            deeprep::motion::clip::check_skeleton(&b, &tpl).map_err(|e| {
-                format!("{clip}: {e}; --method slerp or zerovel work on any skeleton")
-            })?;
-        }
+            Some(
+                deeprep::motion::clip::OnModel::new(&user, &tpl).map_err(|e| {
+                    format!("{clip}: {e}; --method slerp or zerovel work on any skeleton")
+                })?,
+            )
+        } else {
+            None
+        };
+        let b = on_model
+            .as_ref()
+            .map(|m| m.clip.clone())
+            .unwrap_or_else(|| user.clone());
         let list = o.keys.as_ref().ok_or("--from-bvh needs --keys F1,F2,...")?;
         let frames: Vec<usize> = list
             .split(',')
@@ -343,7 +353,11 @@ fn inbetween(args: &[&str]) -> Result<(), String> {
             .map_err(|e| e.to_string())?;
         let dna = dna_poses(&o, Some(&b), ck.frames())?;
         let (motion, info) = synthesize(&o, &ck.keys, ck.frames(), dna)?;
-        let out = deeprep::motion::clip::splice(&b, &ck, &motion).map_err(|e| e.to_string())?;
+        let mut out = deeprep::motion::clip::splice(&b, &ck, &motion).map_err(|e| e.to_string())?;
+        if let Some(m) = on_model.as_ref().filter(|m| m.retargeted()) {
+            out = m.back(&user, out, &ck).map_err(|e| e.to_string())?;
+            eprintln!("{clip}: not on the model's skeleton; retargeted onto it and the result back (skeleton::retarget)");
+        }
         let path = o.out.ok_or("-o OUT.bvh is required with --from-bvh")?;
         std::fs::write(&path, out.write()).map_err(|e| format!("{path}: {e}"))?;
         let (first, last) = ck.span();
