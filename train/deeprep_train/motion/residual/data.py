@@ -3,6 +3,7 @@
 Part of deeprep_train.motion.residual (see its package docstring)."""
 import math
 import os
+import sys
 
 import numpy as np
 import torch
@@ -56,6 +57,32 @@ def prepare(path):
                 store[split]["quat"].append(q[a:b])
                 store[split]["len"].append(b - a)
                 store[split]["name"].append(f"{cls}/{name}@{a}")
+    # cmu-extra's locomotion retargeted onto the model's skeleton (motion.extra)
+    from deeprep_train.motion.extra import OUT as EXTRA60, EXTRA_VALIDATION
+    for dirpath, _, files in sorted(os.walk(EXTRA60)):
+        for name in sorted(files):
+            if not name.endswith(".bvh"):
+                continue
+            bvh = read_bvh(os.path.join(dirpath, name))
+            names_x = bvh[0]
+            if names_x != skel[0]:
+                sys.exit(f"{dirpath}/{name} is not on the model's skeleton")
+            trans, loc = local_fk(bvh)
+            pos, _ = fk_from_local(bvh, trans, loc)
+            keep, floor = floor_segments(pos)
+            rj = [j for j in range(len(names_x)) if bvh[3][j]]
+            q = mat_to_quat(loc[:, rj]).astype(np.float32)
+            root = trans[:, 0].copy()
+            root[:, 1] -= floor
+            split = "val" if name[:-4] in EXTRA_VALIDATION else "train"
+            rel = os.path.relpath(os.path.join(dirpath, name), EXTRA60)
+            for a, b in runs(keep):
+                if b - a < MIN_SEGMENT:
+                    continue
+                store[split]["root"].append(root[a:b].astype(np.float32))
+                store[split]["quat"].append(q[a:b])
+                store[split]["len"].append(b - a)
+                store[split]["name"].append(f"extra/{rel}@{a}")
     names, parents, offsets, chans = skel
     arrays = {"names": np.array(names), "parents": np.array(parents), "offsets": np.array(offsets, np.float32),
               "rotating": np.array([j for j in range(len(names)) if chans[j]])}
