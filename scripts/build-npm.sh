@@ -175,11 +175,19 @@ export class DeeprepClient {
   /** The wasm build the worker runs: 'relaxed-simd' (Chrome 114+) or 'simd128'. */
   readonly wasm: 'relaxed-simd' | 'simd128';
   synthesize(req: SynthesisRequest & { signal?: AbortSignal }): Promise<SynthesisResult>;
-  /** One call from a user's clip (BVH text or bytes on the model's skeleton, any frame rate) to motion:
-   *  keys are frames of the clip; resolves with the whole clip at its own frame rate, the span between
-   *  the first and last key synthesized at 60 fps (resampled there and back). */
+  /** One call from a user's clip (BVH text or bytes, any frame rate) to motion: keys are frames of
+   *  the clip; resolves with the whole clip at its own frame rate and on its own skeleton, the span
+   *  between the first and last key synthesized at 60 fps (resampled there and back). A clip on
+   *  another humanoid skeleton is retargeted onto the model's and the result back (docs/retarget.md). */
   synthesizeFromBvh(bvh: string | Uint8Array | ArrayBuffer, opts: { keys: number[]; method?: 'model' | 'slerp';
     post?: boolean; variation?: number; footLock?: boolean; signal?: AbortSignal }): Promise<SynthesisResult>;
+  /** A humanoid clip (BVH text or bytes) on another skeleton: `to` is BVH text or bytes whose
+   *  skeleton receives the motion (its own motion is ignored), or 'model' (the default). `map`
+   *  replaces roles found by name, e.g. { leftShin: 'Knee_L', leftToe: null }. Resolves with BVH
+   *  text at the clip's frame rate; a skeleton whose hips, legs or arms cannot be found rejects
+   *  with E_BAD_BVH naming them. */
+  retarget(bvh: string | Uint8Array | ArrayBuffer, opts?: { to?: 'model' | string | Uint8Array | ArrayBuffer;
+    map?: Record<string, string | null>; signal?: AbortSignal }): Promise<string>;
   /** Parses BVH bytes in the worker and checks the skeleton against the model's (E_BAD_BVH otherwise). */
   importBvh(bytes: Uint8Array | ArrayBuffer, opts?: { signal?: AbortSignal }): Promise<ImportedBvh>;
   /** IK from global joint positions (frames x joints x 3, the skeleton's joint order). */

@@ -78,13 +78,24 @@ export class DeeprepClient {
   /** In-betweening (or SLERP+LERP with method 'slerp'); `opts.signal` aborts it. */
   synthesize({ signal, ...opts }) { return this.request({ type: 'synthesize', ...opts }, [], { signal }); }
   /** One call from a user's clip to motion (the CLI's `--from-bvh --keys`): `bvh` is BVH
-   * text or bytes on the model's skeleton at any frame rate; `keys` are frames of that clip.
-   * Resolves with the whole clip (its frame rate and length), the span between the first
-   * and last key synthesized. */
+   * text or bytes at any frame rate, on the model's skeleton or another humanoid's (retargeted
+   * onto the model's and back); `keys` are frames of that clip. Resolves with the whole clip
+   * (its frame rate, length and skeleton), the span between the first and last key synthesized. */
   synthesizeFromBvh(bvh, { keys, method = 'model', post = true, variation, footLock, signal } = {}) {
     const bytes = typeof bvh === 'string' ? new TextEncoder().encode(bvh) : new Uint8Array(bvh).slice();
     return this.request({ type: 'synthesizeFromBvh', bytes: bytes.buffer, keys: Array.from(keys || []), method, post, variation, footLock },
                         [bytes.buffer], { signal });
+  }
+  /** A humanoid clip (BVH text or bytes) retargeted onto the model's skeleton (`to: 'model'`, the
+   * default) or onto the skeleton of `to` (BVH text or bytes); `map` replaces roles found by name
+   * ({ leftShin: 'Knee_L' }). Resolves with BVH text at the clip's frame rate. */
+  retarget(bvh, { to = 'model', map, signal } = {}) {
+    const asBytes = (b) => (typeof b === 'string' ? new TextEncoder().encode(b) : new Uint8Array(b).slice());
+    const bytes = asBytes(bvh);
+    const target = to === 'model' ? null : asBytes(to);
+    const transfer = target ? [bytes.buffer, target.buffer] : [bytes.buffer];
+    return this.request({ type: 'retarget', bytes: bytes.buffer, target: target && target.buffer, map: map ? JSON.stringify(map) : undefined },
+                        transfer, { signal }).then((m) => m.bvh);
   }
   /** Parses BVH bytes in the worker and checks its skeleton against the model's:
    * resolves with { jointNames, channelCount, frameTime, frameCount, motion, positions, bvh }. */

@@ -15,6 +15,8 @@
 //   -> {type: 'ik', id, positions, frames}   (IK from joint positions; the IK model loads on first use)
 //   -> {type: 'importBvh', id, bytes}        (parse a user's file here, never on the page)
 //   -> {type: 'synthesizeFromBvh', id, bytes, keys, method, post, variation, footLock}
+//   -> {type: 'retarget', id, bytes, target (bytes or null: the model's skeleton), map (JSON or undefined)}
+//   <- {type: 'result', id, bvh}
 //   <- {type: 'error', id, code, message, trapped}: trapped when the wasm instance
 //      hit a RuntimeError (a deeprep bug); the client then replaces this worker.
 // the package without the GPU code (web/pkg-core): a smaller download
@@ -53,7 +55,7 @@ function coded(code, message) {
 }
 
 // The code of an uncoded failure, by the request that failed.
-const DEFAULT_CODE = { init: 'E_MODEL_LOAD', synthesize: 'E_BAD_KEYS', synthesizeFromBvh: 'E_BAD_BVH', importBvh: 'E_BAD_BVH' };
+const DEFAULT_CODE = { init: 'E_MODEL_LOAD', synthesize: 'E_BAD_KEYS', synthesizeFromBvh: 'E_BAD_BVH', importBvh: 'E_BAD_BVH', retarget: 'E_BAD_BVH' };
 
 // Where each model file is: under msg.modelBase, or the package's own copies,
 // written as literal `new URL(..., import.meta.url)` so bundlers ship them.
@@ -273,6 +275,9 @@ function handle(msg) {
     const r = model.synthesizeFromBvh(new Uint8Array(msg.bytes), new Uint32Array(msg.keys), msg.method || 'model',
                                       msg.post ?? true, msg.variation, msg.footLock);
     postResult(id, msg.method || 'model', r);
+  } else if (msg.type === 'retarget') {
+    const bvh = model.retarget(new Uint8Array(msg.bytes), msg.target ? new Uint8Array(msg.target) : undefined, msg.map);
+    postMessage({ type: 'result', id, bvh });
   } else if (msg.type === 'rcAngles') {
     postMessage({ type: 'result', id, angles: Array.from(model.rcAngles(new Float32Array(msg.channels), msg.joint)) });
   } else if (msg.type === 'setRcAngles') {

@@ -383,6 +383,33 @@ impl Inbetweener {
         })
     }
 
+    /// A humanoid clip (BVH bytes) retargeted onto another skeleton: the
+    /// skeleton of `target` (BVH bytes; its motion is ignored) or, without
+    /// it, the model's. `map` is a JSON role map (`{"leftShin": "Knee_L"}`)
+    /// replacing roles found in the clip by name. Returns BVH text at the
+    /// clip's frame rate.
+    pub fn retarget(
+        &self,
+        bvh: &[u8],
+        target: Option<Vec<u8>>,
+        map: Option<String>,
+    ) -> Result<String, JsError> {
+        use crate::skeleton::Bvh;
+        let src = Bvh::parse_bytes(bvh).map_err(js_err)?;
+        let to = match &target {
+            Some(t) => Bvh::parse_bytes(t).map_err(js_err)?,
+            None => self.inner.template.clone(),
+        };
+        let overrides = match &map {
+            Some(m) => crate::skeleton::retarget::parse_map(m).map_err(js_err)?,
+            None => Default::default(),
+        };
+        let (out, _) =
+            crate::motion::clip::retarget(&src, &to, Some(&self.inner.template), &overrides)
+                .map_err(js_err)?;
+        Ok(out.write())
+    }
+
     /// Adds the supervised residual network (the bytes of
     /// `tween_residual.onnx` and its manifest's text), which
     /// [`Inbetweener::residual`] runs.

@@ -52,6 +52,19 @@ try {
   if (fromClip.ran !== 'residual' || fromClip.variation !== r.variation) {
     throw new Error(`synthesizeFromBvh ran '${fromClip.ran}' at variation ${fromClip.variation}, synthesize '${r.ran}' at ${r.variation}`);
   }
+  // another humanoid skeleton (MotionBuilder names, A-pose arms, a fifth of the model's size):
+  // the clip retargeted onto it, in-betweened there (retargeted onto the model's skeleton and
+  // back), and a skeleton without legs refused with the missing roles named
+  const other = otherSkeleton();
+  const onOther = await client.retarget(fromClip.bvh, { to: other });
+  if (!/^HIERARCHY\s+ROOT Hips/.test(onOther) || !/Frames: 121/.test(onOther)) throw new Error(`retarget: ${onOther.slice(0, 80)}`);
+  const otherResult = await client.synthesizeFromBvh(onOther, { keys: [0, 60, 120] });
+  if (otherResult.frames !== 121 || !/ROOT Hips/.test(otherResult.bvh) || !/JOINT LeftUpLeg/.test(otherResult.bvh)) {
+    throw new Error(`synthesizeFromBvh on another skeleton: ${otherResult.frames} frames, ${otherResult.bvh.slice(0, 60)}`);
+  }
+  const legless = other.replace(/LeftLeg/g, 'LeftLimb');
+  const noLegs = await client.retarget(onOther, { to: legless }).then(() => null, (e) => e);
+  if (noLegs?.code !== 'E_BAD_BVH' || !/leftShin/.test(noLegs.message)) throw new Error(`a legless skeleton: ${noLegs?.code} ${noLegs?.message}`);
   // three.js without text: the same tracks as BVHLoader on the BVH text, and the clip plays
   const three = toThree(r, client.skeleton);
   const ref = new BVHLoader().parse(r.bvh);
@@ -134,8 +147,29 @@ try {
   let code = null;
   await client.importBvh(new TextEncoder().encode('HIERARCHY\nnot a bvh')).catch((e) => { code = e.code; });
   if (r.frames !== 60 || clip.frameCount !== 2 || code !== 'E_BAD_BVH') throw new Error(`unexpected: ${r.frames} ${clip.frameCount} ${code}`);
-  document.getElementById('out').textContent = `deeprep ${version()} 6d ${Array.from(sixd)}; synthesized ${r.frames} frames; a 120 fps clip in-betweened (${fromClip.frames} frames); ${cmu}; three.js: ${compared} tracks as BVHLoader's (max difference ${worst.toExponential(1)}), played; root-only keys hit; a 1,500-frame gap via critical keys at ${longGap.criticalFrames.join(', ')}; bad BVH -> ${code}; missing models -> ${missing}; abort -> ${aborted}, then ${after.frames} frames; worker wasm ${client.wasm}, within ${gap.toExponential(1)} of simd128`;
+  document.getElementById('out').textContent = `deeprep ${version()} 6d ${Array.from(sixd)}; synthesized ${r.frames} frames; a 120 fps clip in-betweened (${fromClip.frames} frames), also on another skeleton; ${cmu}; three.js: ${compared} tracks as BVHLoader's (max difference ${worst.toExponential(1)}), played; root-only keys hit; a 1,500-frame gap via critical keys at ${longGap.criticalFrames.join(', ')}; bad BVH -> ${code}; missing models -> ${missing}; abort -> ${aborted}, then ${after.frames} frames; worker wasm ${client.wasm}, within ${gap.toExponential(1)} of simd128`;
   document.body.dataset.done = '1';
 } catch (e) {
   document.body.dataset.error = `${e.code || ''} ${e.message}`;
+}
+
+/** A MotionBuilder-style humanoid (cmu-extra's cmu-hips names), arms 30 degrees below
+ *  horizontal, about a fifth of the model's size, with one frame at rest. */
+function otherSkeleton() {
+  const rot = 'CHANNELS 3 Zrotation Yrotation Xrotation';
+  const joint = (name, o, body) => `JOINT ${name}\n{\nOFFSET ${o.join(' ')}\n${rot}\n${body}}\n`;
+  const end = (o) => `End Site\n{\nOFFSET ${o.join(' ')}\n}\n`;
+  let legs = '', arms = '';
+  for (const [side, x] of [['Left', 1], ['Right', -1]]) {
+    legs += joint(`${side}UpLeg`, [1.3 * x, -1.8, 0.8], joint(`${side}Leg`, [1.5 * x, -7, 0],
+      joint(`${side}Foot`, [0.5, -7, 0], joint(`${side}ToeBase`, [0, -0.4, 2.3], end([0, 0, 0.8])))));
+    const [c, d] = [Math.cos(Math.PI / 6), -Math.sin(Math.PI / 6)];
+    arms += joint(`${side}Shoulder`, [0, 0, 0], joint(`${side}Arm`, [3.3 * x, 1.2, -0.3],
+      joint(`${side}ForeArm`, [5 * c * x, 5 * d, 0], joint(`${side}Hand`, [3.5 * c * x, 3.5 * d, 0], end([0.7 * c * x, 0.7 * d, 0])))));
+  }
+  const spine = joint('Spine', [0, 2, -0.2], joint('Spine1', [0, 2, 0],
+    joint('Neck', [0, 1.7, 0.2], joint('Head', [0, 1.7, -0.1], end([0, 1.6, 0]))) + arms));
+  const channels = 6 + 3 * (2 * 4 + 2 * 4 + 4);
+  return `HIERARCHY\nROOT Hips\n{\nOFFSET 0 0 0\nCHANNELS 6 Xposition Yposition Zposition Zrotation Yrotation Xrotation\n${legs}${spine}}\n`
+    + `MOTION\nFrames: 1\nFrame Time: 0.0083333\n${Array(channels).fill(0).join(' ')}\n`;
 }
