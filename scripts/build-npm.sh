@@ -181,6 +181,13 @@ export class DeeprepClient {
    *  another humanoid skeleton is retargeted onto the model's and the result back (docs/retarget.md). */
   synthesizeFromBvh(bvh: string | Uint8Array | ArrayBuffer, opts: { keys: number[]; method?: 'model' | 'slerp';
     post?: boolean; variation?: number; footLock?: boolean; signal?: AbortSignal }): Promise<SynthesisResult>;
+  /** Fills gaps in captured motion: each { start, end } (inclusive frames of the clip) is synthesized
+   *  from `context.before` frames before it and `context.after` after it (defaults 20 and 1); every
+   *  other frame comes back exactly as it was. Bad ranges (reversed, outside the clip, overlapping,
+   *  touching the clip's ends) reject with E_BAD_INPUT. */
+  fillGaps(bvh: string | Uint8Array | ArrayBuffer, gaps: { start: number; end: number }[],
+    opts?: { method?: 'model' | 'residual' | 'slerp' | 'zerovel' | 'hermite'; context?: { before?: number; after?: number };
+      signal?: AbortSignal }): Promise<SynthesisResult>;
   /** A humanoid clip (BVH text or bytes) on another skeleton: `to` is BVH text or bytes whose
    *  skeleton receives the motion (its own motion is ignored), or 'model' (the default). `map`
    *  replaces roles found by name, e.g. { leftShin: 'Knee_L', leftToe: null }. Resolves with BVH

@@ -86,6 +86,18 @@ export class DeeprepClient {
     return this.request({ type: 'synthesizeFromBvh', bytes: bytes.buffer, keys: Array.from(keys || []), method, post, variation, footLock },
                         [bytes.buffer], { signal });
   }
+  /** Fills gaps in captured motion: `bvh` is BVH text or bytes (the model's skeleton or another
+   * humanoid's, any frame rate), `gaps` a list of { start, end } (inclusive frames of the clip).
+   * Each gap is synthesized from `context.before` frames before it and `context.after` after it
+   * (defaults 20 and 1) by `method` ('model', 'residual', 'slerp', 'zerovel' or 'hermite');
+   * every other frame comes back exactly as it was. Bad ranges (reversed, outside the clip,
+   * overlapping, touching the clip's ends) reject with E_BAD_INPUT. */
+  fillGaps(bvh, gaps, { method = 'model', context = {}, signal } = {}) {
+    const bytes = typeof bvh === 'string' ? new TextEncoder().encode(bvh) : new Uint8Array(bvh).slice();
+    const pairs = (gaps || []).flatMap((g) => [g.start, g.end]);
+    return this.request({ type: 'fillGaps', bytes: bytes.buffer, gaps: pairs, method, before: context.before, after: context.after },
+                        [bytes.buffer], { signal });
+  }
   /** A humanoid clip (BVH text or bytes) retargeted onto the model's skeleton (`to: 'model'`, the
    * default) or onto the skeleton of `to` (BVH text or bytes); `map` replaces roles found by name
    * ({ leftShin: 'Knee_L' }). Resolves with BVH text at the clip's frame rate. */

@@ -15,6 +15,7 @@
 //   -> {type: 'ik', id, positions, frames}   (IK from joint positions; the IK model loads on first use)
 //   -> {type: 'importBvh', id, bytes}        (parse a user's file here, never on the page)
 //   -> {type: 'synthesizeFromBvh', id, bytes, keys, method, post, variation, footLock}
+//   -> {type: 'fillGaps', id, bytes, gaps ([start, end, ...]), method, before, after}
 //   -> {type: 'retarget', id, bytes, target (bytes or null: the model's skeleton), map (JSON or undefined)}
 //   <- {type: 'result', id, bvh}
 //   <- {type: 'error', id, code, message, trapped}: trapped when the wasm instance
@@ -55,7 +56,7 @@ function coded(code, message) {
 }
 
 // The code of an uncoded failure, by the request that failed.
-const DEFAULT_CODE = { init: 'E_MODEL_LOAD', synthesize: 'E_BAD_KEYS', synthesizeFromBvh: 'E_BAD_BVH', importBvh: 'E_BAD_BVH', retarget: 'E_BAD_BVH' };
+const DEFAULT_CODE = { init: 'E_MODEL_LOAD', synthesize: 'E_BAD_KEYS', synthesizeFromBvh: 'E_BAD_BVH', importBvh: 'E_BAD_BVH', retarget: 'E_BAD_BVH', fillGaps: 'E_BAD_INPUT' };
 
 // Where each model file is: under msg.modelBase, or the package's own copies,
 // written as literal `new URL(..., import.meta.url)` so bundlers ship them.
@@ -274,6 +275,14 @@ function handle(msg) {
     postMessage({ type: 'progress', id, stage: 'reading the clip and synthesizing', fraction: 0.1 });
     const r = model.synthesizeFromBvh(new Uint8Array(msg.bytes), new Uint32Array(msg.keys), msg.method || 'model',
                                       msg.post ?? true, msg.variation, msg.footLock);
+    postResult(id, msg.method || 'model', r);
+  } else if (msg.type === 'fillGaps') {
+    postMessage({ type: 'progress', id, stage: 'filling gaps', fraction: 0.1 });
+    const gaps = msg.gaps.map((v) => {
+      if (!Number.isInteger(v) || v < 0 || v > 0xffffffff) throw coded('E_BAD_INPUT', `a gap's frame must be a non-negative integer, found ${v}`);
+      return v;
+    });
+    const r = model.fillGaps(new Uint8Array(msg.bytes), new Uint32Array(gaps), msg.method || 'model', msg.before, msg.after);
     postResult(id, msg.method || 'model', r);
   } else if (msg.type === 'retarget') {
     const bvh = model.retarget(new Uint8Array(msg.bytes), msg.target ? new Uint8Array(msg.target) : undefined, msg.map);

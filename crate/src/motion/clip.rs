@@ -225,6 +225,30 @@ pub fn model_roles(skeleton: &Bvh) -> Result<RoleMap> {
     Ok(find_roles(skeleton)?.without(&MODEL_REST_ROLES))
 }
 
+/// `src` retargeted onto `target`'s skeleton (`deeprep bvh retarget`, JS
+/// `client.retarget`). A skeleton that is the model's (`model`) follows only
+/// [`model_roles`]; `overrides` (a `--map` file) replace roles found in
+/// `src` by name.
+pub fn retarget(
+    src: &Bvh,
+    target: &Bvh,
+    model: Option<&Bvh>,
+    overrides: &std::collections::BTreeMap<String, Option<String>>,
+) -> Result<(Bvh, Retarget)> {
+    let roles = |b: &Bvh, o: &std::collections::BTreeMap<String, Option<String>>| match model {
+        Some(m) if o.is_empty() && check_skeleton(b, m).is_ok() => model_roles(b),
+        _ => RoleMap::with_overrides(b, o),
+    };
+    let prefix = |which: &str, e: Error| match e {
+        Error::Invalid(m) => Error::Invalid(format!("{which} skeleton: {m}")),
+        other => other,
+    };
+    let sm = roles(src, overrides).map_err(|e| prefix("source", e))?;
+    let tm = roles(target, &Default::default()).map_err(|e| prefix("target", e))?;
+    let r = Retarget::new(src, &sm, target, &tm)?;
+    Ok((r.clip(src, target, None)?, r))
+}
+
 /// A user's clip on the model's skeleton: the clip itself when it is on it
 /// ([`check_skeleton`]), otherwise retargeted onto it
 /// ([`crate::skeleton::retarget`]), with the way back.
@@ -265,6 +289,19 @@ impl OnModel {
     /// True when the clip was retargeted.
     pub fn retargeted(&self) -> bool {
         self.back.is_some()
+    }
+
+    /// A fill made on [`OnModel::clip`] (the model's skeleton, the clip's
+    /// length and rate) on the user's skeleton: retargeted back with the
+    /// user's unmapped joints carried; the caller keeps the user's own rows
+    /// outside the gaps.
+    pub fn back_whole(&self, user: &Bvh, result: Bvh) -> Result<Bvh> {
+        let Some(r) = &self.back else {
+            return Ok(result);
+        };
+        let mut out = r.clip(&result, user, Some(user))?;
+        out.frame_time = user.frame_time;
+        Ok(out)
     }
 
     /// A result made from [`OnModel::clip`] (the model's skeleton, the

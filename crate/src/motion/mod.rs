@@ -21,6 +21,7 @@ pub mod dense;
 pub mod dna;
 pub mod edit;
 pub mod feet;
+pub mod fill;
 pub mod keys;
 pub mod manifest;
 #[cfg(feature = "onnx")]

@@ -383,6 +383,94 @@ impl Inbetweener {
         })
     }
 
+    /// Fills gaps in a clip (BVH bytes on the model's skeleton or another
+    /// humanoid's, any frame rate; `motion::fill`): `gaps` holds inclusive
+    /// `[start, end]` frame pairs of the clip; each gap's frames are
+    /// synthesized from `before` frames before it and `after` after it
+    /// (whole-pose keys; the defaults 20 and 1), by `method` ("model",
+    /// "residual", "generator", "slerp", "zerovel" or "hermite"); every
+    /// other frame is returned exactly as it was.
+    #[wasm_bindgen(js_name = fillGaps)]
+    pub fn fill_gaps(
+        &self,
+        bvh: &[u8],
+        gaps: &[u32],
+        method: &str,
+        before: Option<u32>,
+        after: Option<u32>,
+    ) -> Result<InbetweenResult, JsError> {
+        use crate::motion::clip;
+        use crate::motion::fill::{self, Context, Gap};
+        let user = crate::skeleton::Bvh::parse_bytes(bvh).map_err(js_err)?;
+        if !gaps.len().is_multiple_of(2) {
+            return Err(JsError::new("gaps are [start, end] pairs"));
+        }
+        let gaps: Vec<Gap> = gaps
+            .chunks(2)
+            .map(|g| Gap {
+                start: g[0] as usize,
+                end: g[1] as usize,
+            })
+            .collect();
+        let ctx = Context::parse(&format!(
+            "{},{}",
+            before.unwrap_or(fill::DEFAULT_CONTEXT.before as u32),
+            after.unwrap_or(fill::DEFAULT_CONTEXT.after as u32)
+        ))
+        .map_err(js_err)?;
+        let network = matches!(method, "model" | "residual" | "generator");
+        let on_model = if network {
+            Some(clip::OnModel::new(&user, &self.inner.template).map_err(js_err)?)
+        } else {
+            None
+        };
+        let b = on_model.as_ref().map_or(&user, |m| &m.clip);
+        let mut plan = None;
+        let mut stage_ms = [0.0; 4];
+        let filled = fill::fill(b, &gaps, ctx, &mut |c, ck| {
+            if method == "hermite" {
+                return fill::hermite(c, ck);
+            }
+            let served = crate::motion::serve::serve(
+                &self.models(),
+                Request {
+                    method: method.into(),
+                    ..Request::model(ck.keys.clone(), ck.frames())
+                },
+                &|| js_sys::Date::now(),
+            )?;
+            for (t, s) in stage_ms.iter_mut().zip(served.stage_ms) {
+                *t += s;
+            }
+            plan = Some(served.plan);
+            Ok(served.motion)
+        })
+        .map_err(js_err)?;
+        let mut out = match on_model.as_ref().filter(|m| m.retargeted()) {
+            Some(m) => m.back_whole(&user, filled).map_err(js_err)?,
+            None => filled,
+        };
+        let c = user.channel_count();
+        let inside = |f: usize| gaps.iter().any(|g| (g.start..=g.end).contains(&f));
+        for f in (0..user.frame_count()).filter(|&f| !inside(f)) {
+            out.motion[f * c..(f + 1) * c].copy_from_slice(&user.motion[f * c..(f + 1) * c]);
+        }
+        let poses = (0..out.frame_count()).map(|f| crate::skeleton::Pose::read(&out, out.frame(f)));
+        let (positions, tracks, frames) = positions_and_tracks(&out, poses);
+        Ok(InbetweenResult {
+            text: std::cell::RefCell::new(Text::Written(out.write())),
+            positions,
+            frames,
+            frame_time: out.frame_time,
+            tracks,
+            times: stage_ms.to_vec(),
+            key_error: vec![0.0; 4],
+            critical_frames: Vec::new(),
+            method: plan.as_ref().map_or("hermite", |p| p.pipeline.name()),
+            variation: plan.as_ref().map_or(0.0, |p| p.variation),
+        })
+    }
+
     /// A humanoid clip (BVH bytes) retargeted onto another skeleton: the
     /// skeleton of `target` (BVH bytes; its motion is ignored) or, without
     /// it, the model's. `map` is a JSON role map (`{"leftShin": "Knee_L"}`)

@@ -249,20 +249,9 @@ pub fn retarget(rest: &[&str]) -> Result<(), CliError> {
         load(to)?
     };
     let overrides = load_map(map)?;
-    use deeprep::motion::clip::{check_skeleton, model_roles};
-    use deeprep::skeleton::retarget::{Retarget, RoleMap};
     let model = model_skeleton(models).ok();
-    // the model's skeleton follows only the roles its motion rotates
-    let roles = |b: &Bvh, o: &std::collections::BTreeMap<String, Option<String>>| match &model {
-        Some(m) if o.is_empty() && check_skeleton(b, m).is_ok() => model_roles(b),
-        _ => RoleMap::with_overrides(b, o),
-    };
-    let sm = roles(&s, &overrides).map_err(|e| format!("{src}: {e}"))?;
-    let tm = roles(&target, &Default::default()).map_err(|e| format!("{to}: {e}"))?;
-    let r = Retarget::new(&s, &sm, &target, &tm).map_err(|e| format!("{src} -> {to}: {e}"))?;
-    let b = r
-        .clip(&s, &target, None)
-        .map_err(|e| format!("{src}: {e}"))?;
+    let (b, r) = deeprep::motion::clip::retarget(&s, &target, model.as_ref(), &overrides)
+        .map_err(|e| format!("{src} -> {to}: {e}"))?;
     std::fs::write(out, b.write()).map_err(|e| format!("{out}: {e}"))?;
     eprintln!(
         "wrote {out}: {} frames at {:.3} fps on {to}'s skeleton ({} joints); {} roles followed, root translation scaled by {:.4} (leg length)",

@@ -24,6 +24,8 @@ struct Opts {
     seed: Option<u64>,
     key_kind: String,
     skeleton: bool,
+    fill: Vec<String>,
+    context: Option<String>,
 }
 
 fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
@@ -42,12 +44,16 @@ fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
         seed: None,
         key_kind: "pose".into(),
         skeleton: false,
+        fill: Vec::new(),
+        context: None,
     };
     let mut i = 0;
     while i < args.len() {
         let next = |i: usize| super::args::value_of(args, i);
         match args[i] {
             "--from-bvh" => o.from_bvh = Some(next(i)?),
+            "--fill" => o.fill.push(next(i)?),
+            "--context" => o.context = Some(next(i)?),
             "--keys" => o.keys = Some(next(i)?),
             "--frames" => {
                 o.frames = Some(
@@ -283,6 +289,66 @@ fn model_skeleton(o: &Opts) -> Result<deeprep::skeleton::Bvh, String> {
         .map_err(|e| format!("{}: {e}", p.display()))
 }
 
+/// `--from-bvh CLIP --fill START-END ...`: each gap's frames synthesized
+/// from the context around it (`motion::fill`), every other frame kept.
+fn fill(
+    o: &Opts,
+    clip: &str,
+    user: &deeprep::skeleton::Bvh,
+    b: &deeprep::skeleton::Bvh,
+    on_model: Option<&deeprep::motion::clip::OnModel>,
+) -> Result<(), String> {
+    use deeprep::motion::fill::{self, Context, Gap};
+    if o.keys.is_some() || o.dna.is_some() || o.key_kind != "pose" {
+        return Err("--fill takes the frames around each gap as whole-pose keys: leave out --keys, --dna and --key-kind".into());
+    }
+    let gaps: Vec<Gap> = o
+        .fill
+        .iter()
+        .map(|s| Gap::parse(s).map_err(|e| format!("--fill: {e}")))
+        .collect::<Result<_, _>>()?;
+    let ctx = match &o.context {
+        Some(c) => Context::parse(c).map_err(|e| format!("--context: {e}"))?,
+        None => fill::DEFAULT_CONTEXT,
+    };
+    let mut info = String::new();
+    let filled = fill::fill(b, &gaps, ctx, &mut |clip, ck| {
+        if o.method == "hermite" {
+            info = "a cubic Hermite curve with the context's tangents".into();
+            return fill::hermite(clip, ck);
+        }
+        let (m, i) = synthesize(o, &ck.keys, ck.frames(), None).map_err(deeprep::Error::Invalid)?;
+        info = i;
+        Ok(m)
+    })
+    .map_err(|e| format!("--fill: {e}"))?;
+    let mut out = filled;
+    if let Some(m) = on_model.filter(|m| m.retargeted()) {
+        out = m.back_whole(user, out).map_err(|e| e.to_string())?;
+    }
+    // every frame outside the gaps is the input's own row
+    let c = user.channel_count();
+    let inside = |f: usize| gaps.iter().any(|g| (g.start..=g.end).contains(&f));
+    for f in (0..user.frame_count()).filter(|&f| !inside(f)) {
+        out.motion[f * c..(f + 1) * c].copy_from_slice(&user.motion[f * c..(f + 1) * c]);
+    }
+    let path = o
+        .out
+        .clone()
+        .ok_or("-o OUT.bvh is required with --from-bvh")?;
+    std::fs::write(&path, out.write()).map_err(|e| format!("{path}: {e}"))?;
+    eprintln!(
+        "wrote {path}: {} frames, {} gap(s) of {clip} filled ({} frames) with {} frames of context before and {} after by --method {}: {info}",
+        out.frame_count(),
+        gaps.len(),
+        gaps.iter().map(|g| g.len()).sum::<usize>(),
+        ctx.before,
+        ctx.after,
+        o.method
+    );
+    Ok(())
+}
+
 fn inbetween(args: &[&str]) -> Result<(), String> {
     let o = parse_inbetween(args)?;
     if o.skeleton {
@@ -334,7 +400,16 @@ fn inbetween(args: &[&str]) -> Result<(), String> {
             .as_ref()
             .map(|m| m.clip.clone())
             .unwrap_or_else(|| user.clone());
-        let list = o.keys.as_ref().ok_or("--from-bvh needs --keys F1,F2,...")?;
+        if !o.fill.is_empty() {
+            return fill(&o, clip, &user, &b, on_model.as_ref());
+        }
+        if o.context.is_some() {
+            return Err("--context goes with --fill".into());
+        }
+        let list = o
+            .keys
+            .as_ref()
+            .ok_or("--from-bvh needs --keys F1,F2,... or --fill START-END")?;
         let frames: Vec<usize> = list
             .split(',')
             .map(|s| {

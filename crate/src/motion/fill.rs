@@ -1,0 +1,365 @@
+//! Filling gaps in captured motion (`deeprep inbetween --from-bvh CLIP
+//! --fill START-END`, JS `client.fillGaps`): the frames of each gap are
+//! synthesized from the known frames around it (its context), every other
+//! frame is kept exactly as it was.
+//!
+//! A gap `START-END` (inclusive) needs a known frame before and after it;
+//! gaps are filled in order, so a later gap's context may hold an earlier
+//! gap's filled frames. What a method sees of the context is [`Context`]:
+//! `before` frames before the gap and `after` frames after it, given to the
+//! networks as whole-pose keys (each frame a key), and to the Hermite curve
+//! as the end tangents.
+//!
+//! The methods:
+//! - the networks and SLERP+LERP through [`super::serve`], with the context
+//!   frames as keys;
+//! - [`hermite`]: a cubic Hermite curve from the last frame before the gap
+//!   to the first after it, whose end tangents are the context's velocities
+//!   (what an editor's spline gives when it sees the neighbouring keys):
+//!   per coordinate for the root, in the tangent space of the first end's
+//!   rotation for each joint.
+
+use super::clip::ClipKeys;
+use super::{Keyframe, Motion};
+use crate::error::{Error, Result};
+use crate::rotation::{from_glam_f64, to_glam_f64, Mat3};
+use crate::skeleton::Bvh;
+use glam::{DQuat, DVec3};
+
+/// Frames `start..=end` of a clip to synthesize.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct Gap {
+    /// First frame synthesized.
+    pub start: usize,
+    /// Last frame synthesized.
+    pub end: usize,
+}
+
+impl Gap {
+    /// Parses `START-END` (inclusive frame numbers of the clip).
+    pub fn parse(s: &str) -> Result<Gap> {
+        let bad = || {
+            Error::Invalid(format!(
+                "a gap is START-END, two frame numbers of the clip (e.g. 200-260), found '{s}'"
+            ))
+        };
+        let (a, b) = s.trim().split_once('-').ok_or_else(bad)?;
+        let start = a.trim().parse().map_err(|_| bad())?;
+        let end = b.trim().parse().map_err(|_| bad())?;
+        Ok(Gap { start, end })
+    }
+
+    /// Frames in the gap.
+    pub fn len(&self) -> usize {
+        self.end + 1 - self.start
+    }
+
+    /// Never true for a checked gap.
+    pub fn is_empty(&self) -> bool {
+        self.end < self.start
+    }
+}
+
+/// The known frames a fill reads on each side of a gap.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct Context {
+    /// Frames before the gap (at least 1).
+    pub before: usize,
+    /// Frames after the gap (at least 1).
+    pub after: usize,
+}
+
+/// The fill's default context: the benchmark's (20 frames before, 1 after:
+/// LaFAN1's protocol at 60 fps).
+pub const DEFAULT_CONTEXT: Context = Context {
+    before: 20,
+    after: 1,
+};
+
+/// Most context frames on a side.
+pub const MAX_CONTEXT: usize = 600;
+
+impl Context {
+    /// Parses `B` or `B,A` (`B` frames before, `A` after; `A` defaults to 1).
+    pub fn parse(s: &str) -> Result<Context> {
+        let bad = || {
+            Error::Invalid(format!(
+                "the context is B or B,A: known frames before and after each gap, 1 to {MAX_CONTEXT} (e.g. 20,1), found '{s}'"
+            ))
+        };
+        let mut it = s.split(',').map(|v| v.trim().parse::<usize>());
+        let before = it.next().ok_or_else(bad)?.map_err(|_| bad())?;
+        let after = match it.next() {
+            Some(v) => v.map_err(|_| bad())?,
+            None => 1,
+        };
+        if it.next().is_some()
+            || !(1..=MAX_CONTEXT).contains(&before)
+            || !(1..=MAX_CONTEXT).contains(&after)
+        {
+            return Err(bad());
+        }
+        Ok(Context { before, after })
+    }
+}
+
+/// Checks gaps against a clip of `frames` frames and sorts them: each
+/// inside the clip, in order (start ≤ end), with a known frame on each side
+/// (not touching the clip's first or last frame), none overlapping or
+/// touching another (two gaps with no known frame between them are one).
+pub fn check(frames: usize, gaps: &[Gap]) -> Result<Vec<Gap>> {
+    if gaps.is_empty() {
+        return Err(Error::Invalid("no gap to fill".into()));
+    }
+    for g in gaps {
+        let name = format!("gap {}-{}", g.start, g.end);
+        if g.start > g.end {
+            return Err(Error::Invalid(format!(
+                "{name} is reversed: give the first frame first ({}-{})",
+                g.end, g.start
+            )));
+        }
+        if g.end >= frames {
+            return Err(Error::Invalid(format!(
+                "{name} is outside the clip's {frames} frames (0-{})",
+                frames.saturating_sub(1)
+            )));
+        }
+        if g.start == 0 || g.end + 1 == frames {
+            return Err(Error::Invalid(format!(
+                "{name} touches the clip's {} frame: a fill needs a known frame on each side (frames 1-{} can be filled)",
+                if g.start == 0 { "first" } else { "last" },
+                frames.saturating_sub(2)
+            )));
+        }
+    }
+    let mut sorted = gaps.to_vec();
+    sorted.sort_by_key(|g| g.start);
+    for w in sorted.windows(2) {
+        if w[1].start <= w[0].end + 1 {
+            return Err(Error::Invalid(format!(
+                "gaps {}-{} and {}-{} overlap or touch: give them as one gap, or leave a known frame between them",
+                w[0].start, w[0].end, w[1].start, w[1].end
+            )));
+        }
+    }
+    Ok(sorted)
+}
+
+/// The frames of `clip` a fill of `gap` takes as keys: up to `ctx.before`
+/// before it and `ctx.after` after it (fewer at the clip's ends).
+pub fn key_frames(gap: Gap, ctx: Context, frames: usize) -> Vec<usize> {
+    let lo = gap.start.saturating_sub(ctx.before);
+    let hi = (gap.end + ctx.after).min(frames - 1);
+    (lo..gap.start).chain(gap.end + 1..=hi).collect()
+}
+
+/// Fills every gap of `clip` in order. `synth(clip, keys)` makes the motion
+/// of one gap's key span (the [`ClipKeys`] of [`key_frames`] on the clip as
+/// filled so far, [`ClipKeys::frames`] long). Returns the clip with the
+/// gaps' frames synthesized and every other frame's row exactly the
+/// input's.
+pub fn fill(
+    clip: &Bvh,
+    gaps: &[Gap],
+    ctx: Context,
+    synth: &mut dyn FnMut(&Bvh, &ClipKeys) -> Result<Motion>,
+) -> Result<Bvh> {
+    let gaps = check(clip.frame_count(), gaps)?;
+    let mut out = clip.clone();
+    for g in &gaps {
+        let frames = key_frames(*g, ctx, out.frame_count());
+        let ck = super::clip::clip_keys(&out, &frames, false)?;
+        let motion = synth(&out, &ck)?;
+        let spliced = super::clip::splice(&out, &ck, &motion)?;
+        let c = out.channel_count();
+        out.motion[g.start * c..(g.end + 1) * c]
+            .copy_from_slice(&spliced.motion[g.start * c..(g.end + 1) * c]);
+    }
+    Ok(out)
+}
+
+/// Hermite basis at `u` in [0, 1]: (h00, h10, h01, h11).
+fn basis(u: f64) -> [f64; 4] {
+    let (u2, u3) = (u * u, u * u * u);
+    [
+        2.0 * u3 - 3.0 * u2 + 1.0,
+        u3 - 2.0 * u2 + u,
+        -2.0 * u3 + 3.0 * u2,
+        u3 - u2,
+    ]
+}
+
+fn quat(m: &Mat3<f64>) -> DQuat {
+    DQuat::from_mat3(&to_glam_f64(m)).normalize()
+}
+
+/// The context-tangent Hermite curve over one gap's key span (`ck` on
+/// `clip`): the context frames as they are, the gap's frames on a cubic
+/// Hermite curve from the last frame before it to the first after it. Its
+/// tangents are the velocities of the context: the last step before the
+/// gap, and the first step after it when two frames after are known (else
+/// the chord, the mean velocity across the gap).
+pub fn hermite(clip: &Bvh, ck: &ClipKeys) -> Result<Motion> {
+    let pose = |f: usize| Keyframe::from_bvh(clip, f, 0);
+    let frames = &ck.clip_frames;
+    // the gap: the one break in the run of key frames
+    let at = frames
+        .windows(2)
+        .position(|w| w[1] > w[0] + 1)
+        .ok_or_else(|| Error::Invalid("a fill's keys leave no gap".into()))?;
+    let (a, b) = (frames[at], frames[at + 1]);
+    let n = (b - a) as f64;
+    let (ka, kb) = (pose(a)?, pose(b)?);
+    let prev = (at > 0).then(|| pose(frames[at - 1])).transpose()?;
+    let next = (at + 2 < frames.len())
+        .then(|| pose(frames[at + 2]))
+        .transpose()?;
+    let root = |k: &Keyframe| {
+        DVec3::new(
+            k.positions[0] as f64,
+            k.positions[1] as f64,
+            k.positions[2] as f64,
+        )
+    };
+    let (pa, pb) = (root(&ka), root(&kb));
+    let chord = (pb - pa) / n;
+    let va = prev.as_ref().map_or(chord, |p| pa - root(p));
+    let vb = next.as_ref().map_or(chord, |q| root(q) - pb);
+    let rot = |k: &Keyframe| -> Result<Vec<DQuat>> {
+        Ok(k.rotations
+            .as_ref()
+            .ok_or_else(|| Error::Invalid("a fill needs whole poses".into()))?
+            .iter()
+            .map(quat)
+            .collect())
+    };
+    let (qa, qb) = (rot(&ka)?, rot(&kb)?);
+    let qp = prev.as_ref().map(rot).transpose()?;
+    let qn = next.as_ref().map(rot).transpose()?;
+    // per joint, in the tangent space at qa: the end point, the two tangents
+    let joints: Vec<(DVec3, DVec3, DVec3)> = (0..qa.len())
+        .map(|j| {
+            let (q0, mut q1) = (qa[j], qb[j]);
+            if q0.dot(q1) < 0.0 {
+                q1 = -q1;
+            }
+            let w1 = (q0.inverse() * q1).normalize().to_scaled_axis();
+            let step = |x: DQuat, y: DQuat| {
+                let y = if x.dot(y) < 0.0 { -y } else { y };
+                (x.inverse() * y).normalize().to_scaled_axis()
+            };
+            let t0 = qp.as_ref().map_or(w1 / n, |p| step(p[j], q0));
+            let t1 = qn.as_ref().map_or(w1 / n, |q| step(q1, q[j]));
+            (w1, t0, t1)
+        })
+        .collect();
+    let mut m = Motion {
+        root: Vec::with_capacity(ck.frames()),
+        rotations: Vec::with_capacity(ck.frames()),
+    };
+    for f in ck.first..=ck.last {
+        if f <= a || f >= b {
+            let k = pose(f)?;
+            m.root.push(root(&k).to_array());
+            m.rotations.push(k.rotations.unwrap_or_default());
+            continue;
+        }
+        let u = (f - a) as f64 / n;
+        let [h00, h10, h01, h11] = basis(u);
+        let p = pa * h00 + va * (n * h10) + pb * h01 + vb * (n * h11);
+        m.root.push(p.to_array());
+        m.rotations.push(
+            joints
+                .iter()
+                .zip(&qa)
+                .map(|((w1, t0, t1), q0)| {
+                    let w = *t0 * (n * h10) + *w1 * h01 + *t1 * (n * h11);
+                    from_glam_f64(&glam::DMat3::from_quat(
+                        (*q0 * DQuat::from_scaled_axis(w)).normalize(),
+                    ))
+                })
+                .collect(),
+        );
+    }
+    Ok(m)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gaps_parse_and_check() {
+        assert_eq!(
+            Gap::parse("200-260").unwrap(),
+            Gap {
+                start: 200,
+                end: 260
+            }
+        );
+        assert!(Gap::parse("200").is_err() && Gap::parse("a-b").is_err());
+        let e = |g: &[(usize, usize)]| {
+            let gaps: Vec<Gap> = g.iter().map(|&(start, end)| Gap { start, end }).collect();
+            check(100, &gaps).unwrap_err().to_string()
+        };
+        assert!(e(&[(50, 40)]).contains("reversed"));
+        assert!(e(&[(90, 120)]).contains("outside"));
+        assert!(e(&[(0, 10)]).contains("first"));
+        assert!(e(&[(80, 99)]).contains("last"));
+        assert!(e(&[(10, 20), (15, 30)]).contains("overlap"));
+        assert!(e(&[(10, 20), (21, 30)]).contains("touch"));
+        let ok = check(
+            100,
+            &[Gap { start: 50, end: 60 }, Gap { start: 10, end: 20 }],
+        )
+        .unwrap();
+        assert_eq!(ok[0].start, 10);
+        assert_eq!(
+            Context::parse("20").unwrap(),
+            Context {
+                before: 20,
+                after: 1
+            }
+        );
+        assert_eq!(
+            Context::parse("20,20").unwrap(),
+            Context {
+                before: 20,
+                after: 20
+            }
+        );
+        assert!(
+            Context::parse("0").is_err()
+                && Context::parse("1,2,3").is_err()
+                && Context::parse("x").is_err()
+        );
+    }
+
+    #[test]
+    fn key_frames_take_the_context_around_the_gap() {
+        let g = Gap { start: 10, end: 19 };
+        assert_eq!(
+            key_frames(
+                g,
+                Context {
+                    before: 3,
+                    after: 2
+                },
+                100
+            ),
+            vec![7, 8, 9, 20, 21]
+        );
+        assert_eq!(
+            key_frames(
+                g,
+                Context {
+                    before: 30,
+                    after: 1
+                },
+                21
+            ),
+            (0..10).chain([20]).collect::<Vec<_>>()
+        );
+    }
+}
