@@ -621,6 +621,8 @@ fn foot_locking_pins_a_sliding_foot_and_keeps_keys_exact() {
 
 #[path = "motion/clips.rs"]
 mod clips;
+#[path = "motion/fill.rs"]
+mod fill;
 #[path = "motion/keys.rs"]
 mod keys;
 #[path = "motion/pipeline.rs"]

@@ -181,6 +181,63 @@ impl Bvh {
         s
     }
 
+    /// `original` (the text this clip was parsed from, or a clip with the
+    /// same skeleton and frame count) with the frames where `replace(f)`
+    /// holds written from `self`, every other byte as it was: what a
+    /// partial edit (a gap fill) writes. `None` when `original`'s motion
+    /// is not one line a frame (the parser also reads frames that span
+    /// lines); write the whole clip then.
+    pub fn rewrite_frames(
+        &self,
+        original: &str,
+        replace: &dyn Fn(usize) -> bool,
+    ) -> Option<String> {
+        let at = original
+            .find("\nMOTION")
+            .map(|i| i + 1)
+            .or_else(|| original.starts_with("MOTION").then_some(0))?;
+        let (head, motion) = original.split_at(at);
+        // MOTION, Frames:, Frame Time:, then the rows (blank lines skipped)
+        let mut lines: Vec<&str> = motion.split_inclusive('\n').collect();
+        let first_row = 3;
+        let rows: Vec<usize> = (first_row..lines.len())
+            .filter(|&i| !lines[i].trim().is_empty())
+            .collect();
+        let c = self.channel_count();
+        if rows.len() != self.frame_count() || lines.len() < first_row {
+            return None;
+        }
+        let mut written: Vec<String> = Vec::new();
+        let mut buf = zmij::Buffer::new();
+        for (f, &i) in rows.iter().enumerate() {
+            if lines[i].split_whitespace().count() != c {
+                return None;
+            }
+            if replace(f) {
+                let mut row = String::new();
+                for (k, v) in self.frame(f).iter().enumerate() {
+                    if k > 0 {
+                        row.push(' ');
+                    }
+                    push_display_f32(&mut row, *v, &mut buf);
+                }
+                row.push_str(if lines[i].ends_with("\r\n") {
+                    "\r\n"
+                } else {
+                    "\n"
+                });
+                written.push(row);
+            }
+        }
+        let mut it = written.iter();
+        for (f, &i) in rows.iter().enumerate() {
+            if replace(f) {
+                lines[i] = it.next().map(|s| s.as_str()).unwrap_or(lines[i]);
+            }
+        }
+        Some(format!("{head}{}", lines.concat()))
+    }
+
     /// Writes the joint tree below `root` depth-first with an explicit
     /// stack (no recursion), indenting at most [`MAX_INDENT`] levels.
     fn write_joint(&self, s: &mut String, root: usize, children: &[Vec<usize>]) {

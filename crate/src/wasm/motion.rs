@@ -455,10 +455,15 @@ impl Inbetweener {
         for f in (0..user.frame_count()).filter(|&f| !inside(f)) {
             out.motion[f * c..(f + 1) * c].copy_from_slice(&user.motion[f * c..(f + 1) * c]);
         }
+        // the input's own text outside the gaps, byte for byte
+        let text = std::str::from_utf8(bvh)
+            .ok()
+            .and_then(|t| out.rewrite_frames(t, &inside))
+            .unwrap_or_else(|| out.write());
         let poses = (0..out.frame_count()).map(|f| crate::skeleton::Pose::read(&out, out.frame(f)));
         let (positions, tracks, frames) = positions_and_tracks(&out, poses);
         Ok(InbetweenResult {
-            text: std::cell::RefCell::new(Text::Written(out.write())),
+            text: std::cell::RefCell::new(Text::Written(text)),
             positions,
             frames,
             frame_time: out.frame_time,

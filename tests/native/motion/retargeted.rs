@@ -43,10 +43,7 @@ fn a_motionbuilder_clip_goes_onto_the_model_and_back() {
             worst = worst.max(a[j].distance(b[j]));
         }
     }
-    assert!(
-        worst < 0.2,
-        "the round trip moved a joint by {worst} units"
-    );
+    assert!(worst < 0.2, "the round trip moved a joint by {worst} units");
 }
 
 /// `deeprep inbetween --from-bvh` on the MotionBuilder-style clip: the

@@ -52,6 +52,19 @@ try {
   if (fromClip.ran !== 'residual' || fromClip.variation !== r.variation) {
     throw new Error(`synthesizeFromBvh ran '${fromClip.ran}' at variation ${fromClip.variation}, synthesize '${r.ran}' at ${r.variation}`);
   }
+  // a gap filled (issue 50): frames 30-60 synthesized, every other line of the text as it was,
+  // and a reversed range refused
+  const filled = await client.fillGaps(fromClip.bvh, [{ start: 30, end: 60 }]);
+  {
+    const [a, b] = [fromClip.bvh.split('\n'), filled.bvh.split('\n')];
+    const row0 = a.findIndex((l) => l.startsWith('Frame Time')) + 1;
+    const changed = a.map((l, i) => (l !== b[i] ? i - row0 : null)).filter((f) => f !== null);
+    if (filled.frames !== 121 || a.length !== b.length || changed.some((f) => f < 30 || f > 60) || changed.length < 20) {
+      throw new Error(`fillGaps: ${filled.frames} frames, changed frames ${changed.slice(0, 5)}...`);
+    }
+  }
+  const reversed = await client.fillGaps(fromClip.bvh, [{ start: 60, end: 30 }]).then(() => null, (e) => e);
+  if (reversed?.code !== 'E_BAD_INPUT' || !/reversed/.test(reversed.message)) throw new Error(`a reversed gap: ${reversed?.code} ${reversed?.message}`);
   // another humanoid skeleton (MotionBuilder names, A-pose arms, a fifth of the model's size):
   // the clip retargeted onto it, in-betweened there (retargeted onto the model's skeleton and
   // back), and a skeleton without legs refused with the missing roles named
@@ -147,7 +160,7 @@ try {
   let code = null;
   await client.importBvh(new TextEncoder().encode('HIERARCHY\nnot a bvh')).catch((e) => { code = e.code; });
   if (r.frames !== 60 || clip.frameCount !== 2 || code !== 'E_BAD_BVH') throw new Error(`unexpected: ${r.frames} ${clip.frameCount} ${code}`);
-  document.getElementById('out').textContent = `deeprep ${version()} 6d ${Array.from(sixd)}; synthesized ${r.frames} frames; a 120 fps clip in-betweened (${fromClip.frames} frames), also on another skeleton; ${cmu}; three.js: ${compared} tracks as BVHLoader's (max difference ${worst.toExponential(1)}), played; root-only keys hit; a 1,500-frame gap via critical keys at ${longGap.criticalFrames.join(', ')}; bad BVH -> ${code}; missing models -> ${missing}; abort -> ${aborted}, then ${after.frames} frames; worker wasm ${client.wasm}, within ${gap.toExponential(1)} of simd128`;
+  document.getElementById('out').textContent = `deeprep ${version()} 6d ${Array.from(sixd)}; synthesized ${r.frames} frames; a 120 fps clip in-betweened (${fromClip.frames} frames), also on another skeleton, and a gap filled; ${cmu}; three.js: ${compared} tracks as BVHLoader's (max difference ${worst.toExponential(1)}), played; root-only keys hit; a 1,500-frame gap via critical keys at ${longGap.criticalFrames.join(', ')}; bad BVH -> ${code}; missing models -> ${missing}; abort -> ${aborted}, then ${after.frames} frames; worker wasm ${client.wasm}, within ${gap.toExponential(1)} of simd128`;
   document.body.dataset.done = '1';
 } catch (e) {
   document.body.dataset.error = `${e.code || ''} ${e.message}`;

@@ -68,37 +68,36 @@ def main():
              if name.endswith(".bvh") and (take_of(cls, int(name[:-4])) in VALIDATION) == (args.split == "val")]
     with tempfile.TemporaryDirectory() as tmp:
         for cls, name in clips[::args.every]:
-            if True:
-                clip = os.path.join(tmp, f"{cls}_{name}")
-                n = resample(os.path.join(DATA, cls, name), clip, TRUE_FPS[cls] // 60)
-                gpos, grot = global_fk(read_bvh(clip))
-                names = read_bvh(clip)[0]
-                feet = [names.index(f) for f in FEET]
-                floor = np.median(gpos[:, :, 1].min(1))
-                for after in args.after:
-                    for L in args.lengths:
-                        starts = windows(n, L, after)
-                        phases = -(-(CONTEXT + L + after) // STRIDE)
-                        for m in args.methods:
-                            for p in range(phases):
-                                mine = starts[p::phases]
-                                if not mine:
-                                    continue
-                                out = os.path.join(tmp, "out.bvh")
-                                extra = list(METHODS[m])
-                                ctx = f"{CONTEXT},{after}"
-                                if "--context-keys" in extra:
-                                    extra = extra[:2]
-                                    ctx = "1,1"
-                                fills = sum((["--fill", f"{s}-{s + L - 1}"] for s in mine), [])
-                                r = subprocess.run([cli(), "inbetween", "--from-bvh", clip, "-o", out, "--context", ctx]
-                                                   + fills + extra, capture_output=True, text=True, cwd=ROOT)
-                                if r.returncode != 0:
-                                    sys.exit(f"{m} on {clip}: {r.stderr}")
-                                pred = global_fk(read_bvh(out))
-                                for s in mine:
-                                    score(acc[(m, after, L)], pred, (gpos, grot), [s - 1, s + L], feet, floor, mu, sd)
-                print(f"{cls}/{name}: {n} frames", file=sys.stderr)
+            clip = os.path.join(tmp, f"{cls}_{name}")
+            n = resample(os.path.join(DATA, cls, name), clip, TRUE_FPS[cls] // 60)
+            gpos, grot = global_fk(read_bvh(clip))
+            names = read_bvh(clip)[0]
+            feet = [names.index(f) for f in FEET]
+            floor = np.median(gpos[:, :, 1].min(1))
+            for after in args.after:
+                for L in args.lengths:
+                    starts = windows(n, L, after)
+                    phases = -(-(CONTEXT + L + after) // STRIDE)
+                    for m in args.methods:
+                        for p in range(phases):
+                            mine = starts[p::phases]
+                            if not mine:
+                                continue
+                            out = os.path.join(tmp, "out.bvh")
+                            extra = list(METHODS[m])
+                            ctx = f"{CONTEXT},{after}"
+                            if "--context-keys" in extra:
+                                extra = extra[:2]
+                                ctx = "1,1"
+                            fills = sum((["--fill", f"{s}-{s + L - 1}"] for s in mine), [])
+                            r = subprocess.run([cli(), "inbetween", "--from-bvh", clip, "-o", out, "--context", ctx]
+                                               + fills + extra, capture_output=True, text=True, cwd=ROOT)
+                            if r.returncode != 0:
+                                sys.exit(f"{m} on {clip}: {r.stderr}")
+                            pred = global_fk(read_bvh(out))
+                            for s in mine:
+                                score(acc[(m, after, L)], pred, (gpos, grot), [s - 1, s + L], feet, floor, mu, sd)
+            print(f"{cls}/{name}: {n} frames", file=sys.stderr)
     res = {}
     for (m, a, L), x in acc.items():
         res[f"{m}@after{a}@{L}"] = {

@@ -336,7 +336,13 @@ fn fill(
         .out
         .clone()
         .ok_or("-o OUT.bvh is required with --from-bvh")?;
-    std::fs::write(&path, out.write()).map_err(|e| format!("{path}: {e}"))?;
+    // the input's own text outside the gaps, byte for byte
+    let original = std::fs::read(clip).map_err(|e| format!("{clip}: {e}"))?;
+    let text = std::str::from_utf8(&original)
+        .ok()
+        .and_then(|t| out.rewrite_frames(t, &inside))
+        .unwrap_or_else(|| out.write());
+    std::fs::write(&path, text).map_err(|e| format!("{path}: {e}"))?;
     eprintln!(
         "wrote {path}: {} frames, {} gap(s) of {clip} filled ({} frames) with {} frames of context before and {} after by --method {}: {info}",
         out.frame_count(),

@@ -1,0 +1,222 @@
+//! Filling gaps in a clip (issue 50): `deeprep inbetween --from-bvh CLIP
+//! --fill S-E`, the frames outside the gaps byte for byte the input's, the
+//! seams continuous, bad ranges refused, and the Hermite baseline exact on
+//! motion it can represent.
+
+use super::*;
+use deeprep::motion::fill::{self, Context, Gap};
+
+/// A clip on the model's skeleton written with six decimals (as capture
+/// software writes them, unlike the crate's shortest form): the bundled
+/// example's first pose (models/examples/keys.json), its root walking at 1
+/// unit a frame and every joint the pose bends turning slowly.
+fn clip_text(frames: usize) -> String {
+    let Some(m) = models() else {
+        return String::new();
+    };
+    let keys: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(root().join("models/examples/keys.json")).unwrap(),
+    )
+    .unwrap();
+    let base: Vec<f64> = keys["keys"][0]["channels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    let head = m.template.write();
+    let head = &head[..head.find("MOTION").unwrap()];
+    let mut s = format!("{head}MOTION\nFrames: {frames}\nFrame Time: 0.016667\n");
+    for f in 0..frames {
+        let row: Vec<String> = base
+            .iter()
+            .enumerate()
+            .map(|(i, &b)| {
+                let v = match i {
+                    0 => b + f as f64,
+                    1 => b,
+                    2 => b + 0.5 * f as f64,
+                    _ if b.abs() > 1e-3 => b + 8.0 * (f as f64 * 0.03 + i as f64).sin(),
+                    _ => b,
+                };
+                format!("{v:.6}")
+            })
+            .collect();
+        s += &row.join(" ");
+        s.push('\n');
+    }
+    s
+}
+
+fn run(args: &[&str]) -> (bool, String) {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_deeprep"))
+        .args(["inbetween"])
+        .args(args)
+        .args(["--models", root().join("models/onnx").to_str().unwrap()])
+        .output()
+        .unwrap();
+    (
+        o.status.success(),
+        String::from_utf8_lossy(&o.stderr).to_string(),
+    )
+}
+
+#[test]
+fn the_cli_fills_gaps_and_keeps_every_other_byte() {
+    if models().is_none() {
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("deeprep_fill_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let input = dir.join("in.bvh");
+    let text = clip_text(300);
+    std::fs::write(&input, &text).unwrap();
+    let i = input.to_str().unwrap();
+    for method in ["model", "slerp", "hermite"] {
+        let out = dir.join(format!("{method}.bvh"));
+        let (ok, err) = run(&[
+            "--from-bvh",
+            i,
+            "--fill",
+            "100-159",
+            "--fill",
+            "200-209",
+            "--method",
+            method,
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(ok, "{method}: {err}");
+        let got = std::fs::read_to_string(&out).unwrap();
+        let (a, b): (Vec<&str>, Vec<&str>) = (text.lines().collect(), got.lines().collect());
+        assert_eq!(a.len(), b.len());
+        let first_row = a.iter().position(|l| l.starts_with("Frame Time")).unwrap() + 1;
+        for (n, (x, y)) in a.iter().zip(&b).enumerate() {
+            let f = n as i64 - first_row as i64;
+            let in_gap = (100..=159).contains(&f) || (200..=209).contains(&f);
+            if in_gap {
+                assert_ne!(x, y, "{method}: frame {f} was not synthesized");
+            } else {
+                assert_eq!(x, y, "{method}: line {n} (frame {f}) changed");
+            }
+        }
+        // the seams: no joint moves further in one frame than 3 times the input's steps
+        let (src, res) = (Bvh::parse(&text).unwrap(), Bvh::parse(&got).unwrap());
+        let step = |b: &Bvh, f: usize| {
+            let (p, q) = (
+                deeprep::skeleton::fk::global_pose(b, b.frame(f)).positions,
+                deeprep::skeleton::fk::global_pose(b, b.frame(f + 1)).positions,
+            );
+            p.iter()
+                .zip(&q)
+                .map(|(a, b)| a.distance(*b))
+                .fold(0.0, f64::max)
+        };
+        let fastest = (0..299).map(|f| step(&src, f)).fold(0.0, f64::max);
+        for f in [99, 159, 199, 209] {
+            assert!(
+                step(&res, f) <= 3.0 * fastest,
+                "{method}: a jump of {} at frame {f} (input's fastest {fastest})",
+                step(&res, f)
+            );
+        }
+    }
+    // bad ranges: each a clear error
+    let out = dir.join("bad.bvh");
+    let o = out.to_str().unwrap();
+    for (fill, want) in [
+        (vec!["160-100"], "reversed"),
+        (vec!["250-400"], "outside"),
+        (vec!["0-10"], "first frame"),
+        (vec!["290-299"], "last frame"),
+        (vec!["100-150", "140-160"], "overlap"),
+        (vec!["100-150", "151-160"], "touch"),
+        (vec!["a-b"], "START-END"),
+    ] {
+        let mut args = vec!["--from-bvh", i, "-o", o];
+        for f in &fill {
+            args.extend(["--fill", f]);
+        }
+        let (ok, err) = run(&args);
+        assert!(!ok && err.contains(want), "{fill:?}: {err}");
+    }
+    let (ok, err) = run(&[
+        "--from-bvh",
+        i,
+        "--fill",
+        "100-120",
+        "--keys",
+        "0,10",
+        "-o",
+        o,
+    ]);
+    assert!(!ok && err.contains("--keys"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// On motion a cubic can hold (the root at constant velocity, every joint
+/// at a constant angular rate about a fixed axis), the Hermite curve with
+/// the context's tangents gives the motion back.
+#[test]
+fn the_hermite_baseline_is_exact_on_steady_motion() {
+    if models().is_none() {
+        return;
+    }
+    let m = models().unwrap();
+    let mut b = m.template.clone();
+    let c = b.channel_count();
+    let frames = 120;
+    // one rotation channel per joint moving (a fixed axis), the others 0
+    b.motion = (0..frames * c)
+        .map(|i| {
+            let (f, ch) = ((i / c) as f32, i % c);
+            match ch {
+                0 => 1.5 * f,
+                1 => 88.0,
+                2 => -0.5 * f,
+                _ if ch % 3 == 0 => 0.4 * f - 20.0,
+                _ => 0.0,
+            }
+        })
+        .collect();
+    let filled = fill::fill(
+        &b,
+        &[Gap { start: 40, end: 89 }],
+        Context {
+            before: 5,
+            after: 5,
+        },
+        &mut |clip, ck| fill::hermite(clip, ck),
+    )
+    .unwrap();
+    let mut worst = 0f64;
+    for f in 40..=89 {
+        let (p, q) = (
+            deeprep::skeleton::fk::global_pose(&b, b.frame(f)).positions,
+            deeprep::skeleton::fk::global_pose(&filled, filled.frame(f)).positions,
+        );
+        worst = p
+            .iter()
+            .zip(&q)
+            .map(|(a, b)| a.distance(*b))
+            .fold(worst, f64::max);
+    }
+    assert!(
+        worst < 1e-3,
+        "Hermite on steady motion is off by {worst} units"
+    );
+    // and the check can fail: zero velocity (the first end held) is far off
+    let held = fill::fill(
+        &b,
+        &[Gap { start: 40, end: 89 }],
+        Context {
+            before: 1,
+            after: 1,
+        },
+        &mut |_, ck| deeprep::motion::baseline::zero_velocity(&ck.keys, ck.frames()),
+    )
+    .unwrap();
+    let p = deeprep::skeleton::fk::global_pose(&held, held.frame(60)).positions[0];
+    let q = deeprep::skeleton::fk::global_pose(&b, b.frame(60)).positions[0];
+    assert!(p.distance(q) > 10.0);
+}
