@@ -19,7 +19,8 @@ const TYPES = {
   '.glb': 'model/gltf-binary',
 };
 
-export function serve(dir, port = 0, host = '127.0.0.1') {
+/** `cors`: every answer allows any origin (a CDN's behaviour, for tests). */
+export function serve(dir, port = 0, host = '127.0.0.1', { cors = false } = {}) {
   const root = path.resolve(dir);
   const data = path.resolve(process.env.DEEPREP_DATA || path.join(root, '..', 'shared', 'data'));
   const server = http.createServer((req, res) => {
@@ -49,7 +50,8 @@ export function serve(dir, port = 0, host = '127.0.0.1') {
     } catch { /* unreadable: readFile below answers 404 */ }
     fs.readFile(p, (err, data) => {
       if (err) { res.writeHead(404); res.end('not found'); return; }
-      res.writeHead(200, { 'Content-Type': TYPES[path.extname(p)] || 'application/octet-stream', 'Cache-Control': 'no-cache' });
+      res.writeHead(200, { 'Content-Type': TYPES[path.extname(p)] || 'application/octet-stream', 'Cache-Control': 'no-cache',
+                           ...(cors ? { 'Access-Control-Allow-Origin': '*' } : {}) });
       res.end(data);
     });
   });

@@ -41,14 +41,36 @@ export class DeeprepClient {
     c.modelBase = modelBase ? new URL(String(modelBase), page).href : undefined;
     c.models = models;
     c.onProgress = onProgress;
-    // The worker is written inline, so bundlers (Vite, webpack 5,
-    // esbuild-based tools) see it and bundle it with the wasm it imports;
-    // `workerUrl` overrides. The protocol, trap recovery and aborts are
-    // web/lib/workers.js's, shared with the demo pages.
-    c.channel = new WorkerChannel(
-      () => (workerUrl ? new Worker(workerUrl, { type: 'module' }) : new Worker(new URL('./worker.js', import.meta.url), { type: 'module' })),
-      { onProgress: (m) => c.onProgress(m), error: (code, message) => new DeeprepError(code, message) },
-    );
+    // The worker is written inline, so bundlers (Vite, webpack 5) see it and
+    // bundle it with the wasm it imports; `workerUrl` overrides. Loaded from
+    // another origin (a CDN), the browser refuses that worker: a same-origin
+    // Blob module that imports it takes its place. The protocol, trap
+    // recovery and aborts are web/lib/workers.js's, shared with the pages.
+    if (typeof Worker === 'undefined') {
+      throw new DeeprepError('E_WORKER', 'this environment has no Web Workers (Node, or a server-side render): '
+        + 'DeeprepClient runs in browsers; in Node, use the package\'s page-side API (import init from \'deeprep\')');
+    }
+    const tried = workerUrl ? new URL(String(workerUrl), page).href : new URL('./worker.js', import.meta.url).href;
+    const make = () => {
+      try {
+        return workerUrl ? new Worker(tried, { type: 'module' }) : new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
+      } catch (e) {
+        if (e?.name !== 'SecurityError') throw e;
+        const blob = new Blob([`import ${JSON.stringify(tried)};`], { type: 'text/javascript' });
+        return new Worker(URL.createObjectURL(blob), { type: 'module' });
+      }
+    };
+    try {
+      c.channel = new WorkerChannel(make, {
+        onProgress: (m) => c.onProgress(m),
+        error: (code, message) => new DeeprepError(code, message),
+        describeError: (e) => `the worker ${tried} could not start (${e.message || e.type}): serve the package's `
+          + 'worker.js, core/, lib/ and models/ together, or pass DeeprepClient.create({ workerUrl, modelBase }) '
+          + 'where your bundler put them (README: bundlers and CDNs)',
+      });
+    } catch (e) {
+      throw new DeeprepError('E_WORKER', `the worker ${tried} could not be created: ${e?.message || e}`);
+    }
     let info;
     try {
       info = await c.channel.request({ type: 'init', modelBase: c.modelBase, models, wasm });

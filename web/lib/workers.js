@@ -16,7 +16,9 @@ export class WorkerChannel {
    * `new Worker(new URL('./x.js', import.meta.url), { type: 'module' })`
    * so bundlers see it); `error(code, message)` makes the rejections.
    */
-  constructor(makeWorker, { onProgress = () => {}, onError = () => {}, replay = ['init'], error } = {}) {
+  constructor(makeWorker, { onProgress = () => {}, onError = () => {}, replay = ['init'], error, describeError } = {}) {
+    // the message of a worker's `error` event (which names neither URL nor cause)
+    this.describeError = describeError || ((e) => `worker failed: ${e.message || e.type}`);
     this.makeWorker = makeWorker;
     this.onProgress = onProgress;
     this.onError = onError;
@@ -46,7 +48,7 @@ export class WorkerChannel {
       p.resolve(m);
     };
     worker.onerror = (e) => {
-      const err = this.error('E_WORKER', `worker failed: ${e.message || e.type}`);
+      const err = this.error('E_WORKER', this.describeError(e));
       for (const p of this.pending.values()) p.reject(err);
       this.pending.clear();
       this.onError(err);
