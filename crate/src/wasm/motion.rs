@@ -427,7 +427,8 @@ impl Inbetweener {
         let b = on_model.as_ref().map_or(&user, |m| &m.clip);
         let mut plan = None;
         let mut stage_ms = [0.0; 4];
-        let filled = fill::fill(b, &gaps, ctx, &mut |c, ck| {
+        let filled = fill::fill(b, &gaps, ctx, &mut |c, ck, gap| {
+            let method = fill::method_for(method, gap.len());
             if method == "hermite" {
                 return fill::hermite(c, ck);
             }

@@ -186,7 +186,7 @@ fn the_hermite_baseline_is_exact_on_steady_motion() {
             before: 5,
             after: 5,
         },
-        &mut |clip, ck| fill::hermite(clip, ck),
+        &mut |clip, ck, _| fill::hermite(clip, ck),
     )
     .unwrap();
     let mut worst = 0f64;
@@ -213,7 +213,7 @@ fn the_hermite_baseline_is_exact_on_steady_motion() {
             before: 1,
             after: 1,
         },
-        &mut |_, ck| deeprep::motion::baseline::zero_velocity(&ck.keys, ck.frames()),
+        &mut |_, ck, _| deeprep::motion::baseline::zero_velocity(&ck.keys, ck.frames()),
     )
     .unwrap();
     let p = deeprep::skeleton::fk::global_pose(&held, held.frame(60)).positions[0];

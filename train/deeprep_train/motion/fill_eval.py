@@ -12,9 +12,10 @@ NPSS (per window, averaged), foot skating.
 
 Methods: slerp (SLERP+LERP from the last context frame to the target),
 zerovel (the last context frame held), hermite (a cubic Hermite curve whose
-end tangents are the context's velocities), model (the default network with
-every context frame a key), model-2 (the network with only the last context
-frame and the target as keys).
+end tangents are the context's velocities), residual (the network with
+every context frame a key), residual-2 (the network with only the last
+context frame and the target as keys), model (the CLI's default for fills:
+Hermite up to 45 frames, the network beyond; motion::fill::method_for).
 
 Run: train/.venv/bin/python -m deeprep_train.motion.fill_eval [--split train|val]
 Writes docs/fill_eval[_train].json and prints Markdown tables.
@@ -39,8 +40,12 @@ METHODS = {
     "slerp": ["--method", "slerp"],
     "zerovel": ["--method", "zerovel"],
     "hermite": ["--method", "hermite"],
+    # the network alone (the residual network for whole-pose keys), every context frame a key
+    "residual": ["--method", "residual"],
+    # the network with only the last context frame and the target as keys
+    "residual-2": ["--method", "residual", "--context-keys", "1"],
+    # the default: motion::fill::method_for (Hermite up to 45 frames, the network beyond)
     "model": ["--method", "model"],
-    "model-2": ["--method", "model", "--context-keys", "1"],
 }
 
 
@@ -54,7 +59,7 @@ def main():
     ap.add_argument("--split", choices=["train", "val"], default="train")
     ap.add_argument("--lengths", type=lambda s: [int(x) for x in s.split(",")], default=[10, 30, 60, 90])
     ap.add_argument("--after", type=lambda s: [int(x) for x in s.split(",")], default=[1, 20])
-    ap.add_argument("--methods", type=lambda s: s.split(","), default=list(METHODS))
+    ap.add_argument("--methods", type=lambda s: s.split(","), default=["slerp", "zerovel", "hermite", "residual", "model"])
     ap.add_argument("--every", type=int, default=1, help="every K-th clip of the split (a quicker look)")
     ap.add_argument("--json")
     args = ap.parse_args()

@@ -9,6 +9,7 @@ pub fn run(rest: &[&str]) -> Result<(), CliError> {
     Ok(inbetween(rest)?)
 }
 
+#[derive(Clone)]
 struct Opts {
     from_bvh: Option<String>,
     keys: Option<String>,
@@ -311,14 +312,23 @@ fn fill(
         Some(c) => Context::parse(c).map_err(|e| format!("--context: {e}"))?,
         None => fill::DEFAULT_CONTEXT,
     };
-    let mut info = String::new();
-    let filled = fill::fill(b, &gaps, ctx, &mut |clip, ck| {
-        if o.method == "hermite" {
-            info = "a cubic Hermite curve with the context's tangents".into();
+    let mut info: Vec<String> = Vec::new();
+    let filled = fill::fill(b, &gaps, ctx, &mut |clip, ck, gap| {
+        let method = fill::method_for(&o.method, gap.len());
+        if method == "hermite" {
+            info.push(format!(
+                "{}-{}: a cubic Hermite curve with the context's tangents",
+                gap.start, gap.end
+            ));
             return fill::hermite(clip, ck);
         }
-        let (m, i) = synthesize(o, &ck.keys, ck.frames(), None).map_err(deeprep::Error::Invalid)?;
-        info = i;
+        let asked = Opts {
+            method: method.to_string(),
+            ..o.clone()
+        };
+        let (m, i) =
+            synthesize(&asked, &ck.keys, ck.frames(), None).map_err(deeprep::Error::Invalid)?;
+        info.push(format!("{}-{}: {i}", gap.start, gap.end));
         Ok(m)
     })
     .map_err(|e| format!("--fill: {e}"))?;
@@ -344,13 +354,14 @@ fn fill(
         .unwrap_or_else(|| out.write());
     std::fs::write(&path, text).map_err(|e| format!("{path}: {e}"))?;
     eprintln!(
-        "wrote {path}: {} frames, {} gap(s) of {clip} filled ({} frames) with {} frames of context before and {} after by --method {}: {info}",
+        "wrote {path}: {} frames, {} gap(s) of {clip} filled ({} frames) with {} frames of context before and {} after by --method {}: {}",
         out.frame_count(),
         gaps.len(),
         gaps.iter().map(|g| g.len()).sum::<usize>(),
         ctx.before,
         ctx.after,
-        o.method
+        o.method,
+        info.join("; ")
     );
     Ok(())
 }
