@@ -25,6 +25,8 @@
 // alternately with the bundled network in the same reps (`candidate_total_ms`,
 // `candidate_ran`): a network's speed is judged against the bundled one in one
 // run (train/README.md's bundle rules).
+// `fill_60_frames_in_512`: Inbetweener.fillGaps on a 60-frame gap of a 512-frame clip
+// (the default method and the Hermite curve), best of reps after a first call.
 // Prints JSON. Usage: node tests/web/bench_page.mjs [--smoke] [--candidate FILE]
 import { withBenchPage } from './chromium.mjs';
 
@@ -159,9 +161,30 @@ await withBenchPage(async (page) => {
                  slerp_lerp_ms_with_bvh_and_fk: slerp,
                  ...(cand ? { candidate_total_ms: candBest, candidate_ran: candRan } : {}) });
     }
+    // a 60-frame gap filled in a 512-frame clip (issue 50: under 20 ms), with the default
+    // (the network for gaps over 45 frames) and the Hermite curve; the BVH text written
+    const fk = new Uint32Array([0, 240, 480]);
+    const fc = new Float32Array([0, 1, 2].flatMap((i) => { const c = poses[i % poses.length].channels.slice(); c[0] = 30 * i; return c; }));
+    const base = withResidual.synthesize(fk, fc, 512, { post: true });
+    const clipBytes = new TextEncoder().encode(base.bvh);
+    base.free();
+    const fill = {};
+    for (const method of ['model', 'hermite']) {
+      let best = Infinity, ran = null;
+      for (let r = 0; r <= reps; r++) {
+        const t = performance.now();
+        const f = withResidual.fillGaps(clipBytes, new Uint32Array([200, 259]), method);
+        const ms = performance.now() - t;
+        if (r > 0) best = Math.min(best, ms); // the first call builds the plan for its length
+        ran = f.method;
+        f.free();
+      }
+      fill[method] = { ms: best, ran };
+    }
     // which matrix kernel the worker's build ran products with (runtime::matmul_kernel)
-    return { rows: out, warmUpMs, matmulKernel: JSON.parse(m.OnnxModel.matmulKernel()) };
+    return { rows: out, warmUpMs, fill, matmulKernel: JSON.parse(m.OnnxModel.matmulKernel()) };
   }, { sizes, reps: smoke ? 1 : 3, candidate });
   console.log(JSON.stringify({ bench: 'inbetween', target: 'wasm (headless Chromium, SwiftShader, 1 thread)',
-    ...(candidate ? { candidate } : {}), warm_up_ms: result.warmUpMs, matmul_kernel: result.matmulKernel, rows: result.rows }, null, 1));
+    ...(candidate ? { candidate } : {}), warm_up_ms: result.warmUpMs, matmul_kernel: result.matmulKernel,
+    fill_60_frames_in_512: result.fill, rows: result.rows }, null, 1));
 });
