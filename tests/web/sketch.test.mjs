@@ -388,3 +388,43 @@ test('sketch page: two DNA seeds overlaid, with the distance between them (Sec. 
   assert.deepEqual(errors, []);
   await page.close();
 });
+
+test('sketch page: a gap of an imported clip filled from the timeline, every other frame kept (issue 50)', async () => {
+  const page = await browser.context.newPage();
+  const errors = watchErrors(page);
+  await page.goto(`${server.url}/web/index.html`);
+  await page.waitForSelector('body[data-ready="1"]', { timeout: 120_000 });
+  // a clip to repair: the page's own 300-frame result, exported and imported
+  await page.click('#synth');
+  await page.waitForFunction(() => document.body.dataset.ran, null, { timeout: 120_000 });
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#export')]);
+  const text = fs.readFileSync(await download.path(), 'utf8');
+  await page.setInputFiles('#import', { name: 'take.bvh', mimeType: 'text/plain', buffer: Buffer.from(text) });
+  await page.waitForFunction(() => /imported take.bvh/.test(document.getElementById('status').textContent), null, { timeout: 60_000 });
+  // the range from the timeline: scrub to 120, "start here", scrub to 179, "end here"
+  for (const [frame, button] of [[120, '#fill-from'], [179, '#fill-to']]) {
+    await page.fill('#scrub', String(frame));
+    await page.dispatchEvent('#scrub', 'input');
+    await page.click(button);
+  }
+  assert.equal(await page.inputValue('#fill-start'), '120');
+  assert.equal(await page.inputValue('#fill-end'), '179');
+  await page.click('#fill');
+  await page.waitForFunction(() => /filled frames 120-179/.test(document.getElementById('status').textContent), null, { timeout: 60_000 });
+  assert.match(await page.textContent('#method-badge'), /frames 120-179 filled/);
+  await page.screenshot({ path: path.join(ROOT, 'tests/out/sketch_fill.png') });
+  // what the user gets: the exported file, the input's lines outside the gap
+  const [again] = await Promise.all([page.waitForEvent('download'), page.click('#export')]);
+  const out = fs.readFileSync(await again.path(), 'utf8');
+  const [a, b] = [text.split('\n'), out.split('\n')];
+  assert.equal(a.length, b.length);
+  const row0 = a.findIndex((l) => l.startsWith('Frame Time')) + 1;
+  const changed = a.map((l, i) => (l !== b[i] ? i - row0 : null)).filter((f) => f !== null);
+  assert.ok(changed.length > 30 && changed.every((f) => f >= 120 && f <= 179), `changed frames ${changed.slice(0, 8)}`);
+  // a reversed range: an error in words, the clip unchanged
+  await page.fill('#fill-start', '179');
+  await page.fill('#fill-end', '120');
+  await page.click('#fill');
+  await page.waitForFunction(() => /fill failed: .*reversed/.test(document.getElementById('status').textContent), null, { timeout: 60_000 });
+  assert.deepEqual(errors, []);
+});

@@ -4,7 +4,7 @@
 import { toCanvas } from '../lib/view.js';
 import { $, setStatus, state } from './state.js';
 import { pushHistory, redo, undo } from './history.js';
-import { exportBvh, importBvh } from './io.js';
+import { exportBvh, fillGap, importBvh } from './io.js';
 import { makeXyKey, onAngleInput, refreshJointEditor, solveDraggedPose } from './joints.js';
 import { subtree } from './skeleton.js';
 import { compareSeeds, synthesize } from './synth.js';
@@ -101,6 +101,9 @@ export function wireInput() {
   });
   $('length').addEventListener('change', () => setLength(Number($('length').value)));
   $('export').addEventListener('click', exportBvh);
+  $('fill').addEventListener('click', fillGap);
+  $('fill-from').addEventListener('click', () => { $('fill-start').value = String(state.frame); });
+  $('fill-to').addEventListener('click', () => { $('fill-end').value = String(state.frame); });
   $('import').addEventListener('change', (e) => { if (e.target.files[0]) importBvh(e.target.files[0]); });
   for (const id of ['ax', 'ay', 'az']) {
     $(id).addEventListener('pointerdown', () => pushHistory());

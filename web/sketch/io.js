@@ -42,6 +42,8 @@ export async function importBvh(file) {
       added++;
     }
     if (c === state.skeleton.channels) state.dnaClip = { name: file.name, motion: Float32Array.from(m) };
+    // the clip a gap fill repairs (fillGap), as text
+    state.imported = { name: file.name, bvh: clip.bvh, frames: clip.frameCount };
     state.result = { positions: clip.positions, frames: clip.frameCount, bvh: clip.bvh, method: 'imported' };
     $('method-badge').textContent = `imported ${file.name}`;
     fillLibrary();
@@ -61,5 +63,30 @@ export function fillLibrary() {
     const keep = [...sel.selectedOptions].map((o) => o.value);
     sel.innerHTML = '';
     state.library.forEach((p, i) => { const o = new Option(p.name, String(i)); o.selected = keep.includes(String(i)); sel.add(o); });
+  }
+}
+
+/**
+ * Fills frames #fill-start..#fill-end of the imported clip from the frames
+ * around them (client.fillGaps); the repaired clip is shown, exported by
+ * Export BVH, and is what the next fill repairs.
+ */
+export async function fillGap() {
+  const im = state.imported;
+  if (!im) { setStatus('import a BVH first: a fill repairs frames of an imported clip', true); return; }
+  const start = Number($('fill-start').value), end = Number($('fill-end').value);
+  setStatus(`filling frames ${start}-${end} of ${im.name}…`);
+  try {
+    const r = await state.client.fillGaps(im.bvh, [{ start, end }]);
+    im.bvh = r.bvh;
+    state.result = { positions: r.positions, frames: r.frames, bvh: r.bvh, method: 'filled' };
+    $('method-badge').textContent = `${im.name}: frames ${start}-${end} filled (${r.ran})`;
+    document.body.dataset.filled = `${start}-${end}@${r.ran}`;
+    setStatus(`filled frames ${start}-${end} of ${im.name} by ${r.ran}; Export BVH writes the repaired clip`);
+    $('progress').value = 1;
+    $('progress-label').textContent = '';
+    draw();
+  } catch (e) {
+    setStatus(`fill failed: ${e.message} (the clip is unchanged)`, true);
   }
 }

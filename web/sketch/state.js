@@ -7,6 +7,7 @@ export const state = {
   skeleton: null,      // see skeleton.js: { clip, names, parents, channels }
   library: [],         // [{ name, channels }]
   dnaClip: null,       // the last imported clip's motion, { name, motion } (seeded DNA is drawn from it)
+  imported: null,      // the last imported clip as text, { name, bvh, frames } (what a gap fill repairs)
   // sorted by frame: [{ frame, channels }] (a pose), [{ frame, root }] (a root-only key)
   // or [{ frame, xy, root, positions }] (a 2-D key: joints' x and y, the root; positions are what is drawn)
   keys: [],
