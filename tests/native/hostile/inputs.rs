@@ -535,6 +535,23 @@ fn hair_options_outputs_and_sizes_are_checked() {
             vec!["hair", "reconstruct", "--curl", "-1", "--out", &obj],
             "found -1",
         ),
+        // the same rule for the mesh CLI's frame rate
+        (
+            vec!["mesh", "poses", "no-such.glb", "--out", &obj, "--fps", "0"],
+            "--fps must be a number in [1, 240], found 0",
+        ),
+        (
+            vec![
+                "mesh",
+                "poses",
+                "no-such.glb",
+                "--out",
+                &obj,
+                "--fps",
+                "NaN",
+            ],
+            "--fps must be a number in [1, 240], found NaN",
+        ),
         (
             vec![
                 "hair", "dataset", "--out", &obj, "--base", "10000", "--blends", "100", "--views",

@@ -204,7 +204,7 @@ fn mesh_poses(path: &str, rest: &[&str]) -> Result<(), String> {
             "--fps" => {
                 fps = val
                     .parse()
-                    .map_err(|_| format!("--fps expects a number, got '{val}'"))?
+                    .map_err(|_| format!("--fps must be a number in [1, 240], found '{val}'"))?
             }
             "--random" => {
                 random = val
@@ -228,9 +228,8 @@ fn mesh_poses(path: &str, rest: &[&str]) -> Result<(), String> {
         i += 2;
     }
     let out = out.ok_or_else(|| format!("--out PREFIX is required\n{USAGE}"))?;
-    if !(fps > 0.0 && fps <= 240.0) {
-        return Err(format!("--fps must be in (0, 240], got {fps}"));
-    }
+    // the one rule of numeric options (error::check_option)
+    deeprep::error::check_option("--fps", fps as f64, 1.0, 240.0).map_err(|e| e.to_string())?;
     if random > MAX_CLIP_POSES {
         return Err(format!(
             "--random is at most {MAX_CLIP_POSES}, got {random}"
