@@ -94,8 +94,10 @@ export interface ImportedBvh {
   motion: Float32Array;
   /** Global joint positions, frames x joints x 3. */
   positions: Float32Array;
-  /** The clip written back as BVH text. */
+  /** The clip written back as BVH text (on the model's skeleton). */
   bvh: string;
+  /** Set when the file was on another humanoid skeleton and was retargeted onto the model's. */
+  retargetedFrom: { joints: number; root: string } | null;
 }
 export interface CreateOptions {
   /** Folder with the model files, resolved against the page. Default: the package's models/. */
@@ -147,7 +149,8 @@ export class DeeprepClient {
    *  with E_BAD_BVH naming them. */
   retarget(bvh: string | Uint8Array | ArrayBuffer, opts?: { to?: 'model' | string | Uint8Array | ArrayBuffer;
     map?: Record<string, string | null>; signal?: AbortSignal }): Promise<string>;
-  /** Parses BVH bytes in the worker and checks the skeleton against the model's (E_BAD_BVH otherwise). */
+  /** Parses BVH bytes in the worker: a clip on the model's skeleton as it is, another humanoid's
+   *  retargeted onto it (`retargetedFrom` says so); anything else rejects with E_BAD_BVH. */
   importBvh(bytes: Uint8Array | ArrayBuffer, opts?: { signal?: AbortSignal }): Promise<ImportedBvh>;
   /** IK from global joint positions (frames x joints x 3, the skeleton's joint order). */
   ik(positions: number[] | Float32Array, frames: number): Promise<IkSolution>;

@@ -131,7 +131,8 @@ export class DeeprepClient {
     return this.request({ type: 'retarget', bytes: bytes.buffer, target: target && target.buffer, map: map ? JSON.stringify(map) : undefined },
                         transfer, { signal }).then((m) => m.bvh);
   }
-  /** Parses BVH bytes in the worker and checks its skeleton against the model's:
+  /** Parses BVH bytes in the worker; a clip on another humanoid skeleton is retargeted onto the
+   * model's (`retargetedFrom` says from what), anything else rejects with E_BAD_BVH:
    * resolves with { jointNames, channelCount, frameTime, frameCount, motion, positions, bvh }. */
   importBvh(bytes, { signal } = {}) {
     const copy = new Uint8Array(bytes).slice();

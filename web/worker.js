@@ -13,7 +13,8 @@
 //      (ran: the method that made the motion, 'residual', 'generator' or 'slerp')
 //   -> {type: 'rcAngles', id, channels, joint} / {type: 'setRcAngles', id, channels, joint, angles}
 //   -> {type: 'ik', id, positions, frames}   (IK from joint positions; the IK model loads on first use)
-//   -> {type: 'importBvh', id, bytes}        (parse a user's file here, never on the page)
+//   -> {type: 'importBvh', id, bytes}        (parse a user's file here, never on the page; another
+//      humanoid skeleton is retargeted onto the model's: the result's retargetedFrom says from what)
 //   -> {type: 'synthesizeFromBvh', id, bytes, keys, method, post, variation, footLock}
 //   -> {type: 'fillGaps', id, bytes, gaps ([start, end, ...]), method, before, after}
 //   -> {type: 'retarget', id, bytes, target (bytes or null: the model's skeleton), map (JSON or undefined)}
@@ -178,16 +179,27 @@ async function handleIk(msg) {
 }
 
 function importBvh(msg) {
-  const clip = BvhClip.fromBytes(new Uint8Array(msg.bytes));
+  let clip = BvhClip.fromBytes(new Uint8Array(msg.bytes));
+  let retargetedFrom = null;
   try {
     const names = clip.jointNames;
     if (skeletonNames && (names.length !== skeletonNames.length || names.some((n, i) => n !== skeletonNames[i]))) {
-      throw coded('E_BAD_BVH', `its skeleton (${names.length} joints) is not the model's (${skeletonNames.length} joints)`);
+      // another humanoid: retargeted onto the model's skeleton (skeleton::retarget)
+      let text;
+      try {
+        if (!model) throw new Error('the models are not loaded');
+        text = model.retarget(new Uint8Array(msg.bytes));
+      } catch (e) {
+        throw coded('E_BAD_BVH', `its skeleton (${names.length} joints) is not the model's (${skeletonNames.length} joints), and it cannot be retargeted onto it: ${e.message || e}`);
+      }
+      retargetedFrom = { joints: names.length, root: names[0] };
+      clip.free();
+      clip = BvhClip.parse(text);
     }
     const motion = clip.motion;
     const positions = clip.fkPositions(0, clip.frameCount);
-    postMessage({ type: 'result', id: msg.id, jointNames: names, channelCount: clip.channelCount, frameTime: clip.frameTime,
-                  frameCount: clip.frameCount, motion, positions, bvh: clip.toBvh() }, [motion.buffer, positions.buffer]);
+    postMessage({ type: 'result', id: msg.id, jointNames: clip.jointNames, channelCount: clip.channelCount, frameTime: clip.frameTime,
+                  frameCount: clip.frameCount, motion, positions, bvh: clip.toBvh(), retargetedFrom }, [motion.buffer, positions.buffer]);
   } finally {
     clip.free();
   }

@@ -426,5 +426,18 @@ test('sketch page: a gap of an imported clip filled from the timeline, every oth
   await page.fill('#fill-end', '120');
   await page.click('#fill');
   await page.waitForFunction(() => /fill failed: .*reversed/.test(document.getElementById('status').textContent), null, { timeout: 60_000 });
+  // a clip on another humanoid skeleton (cmu-extra's MotionBuilder-style conversion, when
+  // ../shared is there) is retargeted onto the model's on import (issue 53), and filled
+  const other = path.join(ROOT, '../shared/data/cmu-extra/other-skeletons/cmu-hips/walk/02_01.bvh');
+  if (fs.existsSync(other)) {
+    await page.setInputFiles('#import', { name: 'walk.bvh', mimeType: 'text/plain', buffer: fs.readFileSync(other) });
+    await page.waitForFunction(() => /imported walk.bvh \(retargeted from its 38-joint skeleton/.test(document.getElementById('status').textContent), null, { timeout: 60_000 });
+    await page.fill('#fill-start', '100');
+    await page.fill('#fill-end', '159');
+    await page.click('#fill');
+    await page.waitForFunction(() => /filled frames 100-159 of walk.bvh/.test(document.getElementById('status').textContent), null, { timeout: 60_000 });
+  } else {
+    console.log('SKIP: ../shared/data/cmu-extra is absent; the import of another skeleton is not checked');
+  }
   assert.deepEqual(errors, []);
 });

@@ -47,7 +47,8 @@ export async function importBvh(file) {
     state.result = { positions: clip.positions, frames: clip.frameCount, bvh: clip.bvh, method: 'imported' };
     $('method-badge').textContent = `imported ${file.name}`;
     fillLibrary();
-    setStatus(`imported ${file.name}: ${added} poses added to the library` + (state.dnaClip?.name === file.name ? '; seeded DNA is drawn from it' : ''));
+    const from = clip.retargetedFrom ? ` (retargeted from its ${clip.retargetedFrom.joints}-joint skeleton onto the model's)` : '';
+    setStatus(`imported ${file.name}${from}: ${added} poses added to the library` + (state.dnaClip?.name === file.name ? '; seeded DNA is drawn from it' : ''));
     draw();
     state.view.frame();
     draw();
