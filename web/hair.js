@@ -41,6 +41,8 @@ async function onViewReplaced(view) {
   document.body.dataset.view = view.name();
   $('view-badge').textContent = view.name();
   upload(true);
+  // Chromium drops the 2-D canvases' contents with the lost GPU device: the input again
+  if (state.image) showInput(state.image);
 }
 
 function shownPoints() {
@@ -71,7 +73,13 @@ function draw() {
 state.pixels = async () => state.view.pixels(draw);
 
 function showInput(image) {
-  const ctx = $('input').getContext('2d');
+  const canvas = $('input');
+  if (!canvas.dataset.restores) {
+    // a 2-D canvas whose GPU context is lost and restored comes back blank
+    canvas.addEventListener('contextrestored', () => { if (state.image) showInput(state.image); });
+    canvas.dataset.restores = '1';
+  }
+  const ctx = canvas.getContext('2d');
   const img = ctx.createImageData(256, 256);
   const plane = 256 * 256;
   for (let i = 0; i < plane; i++) {

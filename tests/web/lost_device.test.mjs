@@ -47,3 +47,46 @@ for (const [name, url, global, skip] of [
     await page.close();
   });
 }
+
+// What is on screen (issue 52): a screenshot of each page's visible canvases,
+// decoded in the page and counted, at the default URL (WebGPU first, WebGL2
+// after the lost device) and with ?webgl2. Nothing the test triggers draws.
+async function litInScreenshot(page, selector) {
+  const png = await page.locator(selector).screenshot();
+  return page.evaluate(async (b64) => {
+    const img = new Image();
+    img.src = `data:image/png;base64,${b64}`;
+    await img.decode();
+    const c = new OffscreenCanvas(img.width, img.height);
+    const g = c.getContext('2d');
+    g.drawImage(img, 0, 0);
+    const d = g.getImageData(0, 0, img.width, img.height).data;
+    // a pixel differs from the page's dark background by more than its shading
+    let lit = 0;
+    for (let i = 0; i < d.length; i += 4) if (Math.max(d[i], d[i + 1], d[i + 2]) > 60) lit++;
+    return lit / (d.length / 4);
+  }, png.toString('base64'));
+}
+
+for (const [name, url, canvases, skip] of [
+  ['sketching', '/web/index.html', ['#view'], false],
+  ['mesh', '/web/mesh.html', ['#view'], !HAVE_GLB && `no ${GLB}`],
+  ['hair', '/web/hair.html', ['#view', '#input'], false],
+]) {
+  for (const query of ['', '?webgl2']) {
+    test(`${name} page${query ? ` with ${query}` : ' at its default URL'}: a screenshot shows the scene`, { skip }, async () => {
+      const page = await browser.context.newPage();
+      const errors = watchErrors(page);
+      await page.goto(`${server.url}${url}${query}`);
+      await page.waitForSelector('body[data-ready="1"]', { timeout: 180_000 });
+      await new Promise((r) => setTimeout(r, 1500));
+      for (const sel of canvases) {
+        const lit = await litInScreenshot(page, sel);
+        console.log(`${name}${query} ${sel}: ${(100 * lit).toFixed(1)}% of the screenshot drawn`);
+        assert.ok(lit > 0.01, `${name} page${query} shows an empty ${sel} (${(100 * lit).toFixed(2)}% drawn)`);
+      }
+      assert.deepEqual(errors, []);
+      await page.close();
+    });
+  }
+}

@@ -30,8 +30,11 @@ export async function openView(canvasId, forceWebgl2, onReplace, onFail) {
         await onFail(fresh, e); // no WebGL2 either: the page's own fallback on the fresh canvas
         return;
       }
-      await onReplace(view);
+      // the new viewer is in place: the page's redraw in onReplace must not be
+      // skipped as "still replacing" (it was, and the hair and mesh pages then
+      // showed an empty view after a lost WebGPU device)
       view.replacing = null;
+      await onReplace(view);
     })();
     return view.replacing;
   };
