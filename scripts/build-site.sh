@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Writes web/dist/: the pages, the wasm package and the models, laid out so
 # any static file server (or an offline copy) serves it:
-#   web/dist/index.html -> web/, web/dist/web/*, web/dist/models/{onnx,examples}
+#   web/dist/index.html -> web/, web/dist/web/*, web/dist/models/{onnx,examples},
+#   web/dist/shared-data/gltf/ (the CC0 robot and its licence, when ../shared/data has them)
 #   scripts/build-site.sh           uses the current web/pkg (builds it if missing)
 #   scripts/build-site.sh --opt     rebuilds web/pkg with wasm-opt first
 set -euo pipefail
@@ -15,6 +16,16 @@ cp -r web/pkg web/dist/web/pkg
 cp -r web/pkg-core web/dist/web/pkg-core
 cp models/onnx/*.onnx models/onnx/*.manifest.json web/dist/models/onnx/
 cp models/examples/*.json web/dist/models/examples/
+# the mesh page's robot (CC0, with its licence) where the shared data is
+# beside the repository; without it that page asks the visitor for a file
+GLTF="${DEEPREP_DATA:-../shared/data}/gltf"
+if [ -f "$GLTF/RobotExpressive.glb" ]; then
+  mkdir -p web/dist/shared-data/gltf
+  cp "$GLTF/RobotExpressive.glb" web/dist/shared-data/gltf/
+  [ -f "$GLTF/RobotExpressive.README.md" ] && cp "$GLTF/RobotExpressive.README.md" web/dist/shared-data/gltf/
+else
+  echo "build-site: $GLTF/RobotExpressive.glb is absent; the mesh page will ask for a .glb" >&2
+fi
 cat > web/dist/index.html <<'HTML'
 <!doctype html><meta charset="utf-8"><title>deeprep</title><link rel="icon" href="data:,">
 <meta http-equiv="refresh" content="0; url=web/index.html"><a href="web/index.html">deeprep</a>
