@@ -35,16 +35,7 @@ for f in tween_generator.onnx tween_path.onnx tween_generator.manifest.json twee
 done
 cp npm/README.md pkg/README.md
 cp LICENSE-MIT LICENSE-APACHE pkg/
-cat > pkg/three.d.ts <<'TS'
-import type { AnimationClip, Bone, Skeleton } from 'three';
-/** A synthesis result as a three.js Skeleton and AnimationClip (position and quaternion
- *  tracks per joint, as BVHLoader makes them). `skeleton` is DeeprepClient.skeleton. */
-export function toThree(
-  result: { frames: number; frameTime?: number; translations: Float32Array; quaternions: Float32Array },
-  skeleton: { names: string[]; parents: number[]; offsets: number[] },
-  opts?: { name?: string },
-): { skeleton: Skeleton; clip: AnimationClip; root: Bone; bones: Bone[] };
-TS
+cp web/three.d.ts pkg/three.d.ts
 # the client's types are a source file beside it
 cp web/client.d.ts pkg/client.d.ts
 # wasm-bindgen's classes declare [Symbol.dispose]: name the library that

@@ -26,6 +26,8 @@ if [ -f "$GLTF/RobotExpressive.glb" ]; then
 else
   echo "build-site: $GLTF/RobotExpressive.glb is absent; the mesh page will ask for a .glb" >&2
 fi
+# the JavaScript API reference, from the package's type declarations
+node scripts/api-docs.mjs web/dist/api.html
 cat > web/dist/index.html <<'HTML'
 <!doctype html><meta charset="utf-8"><title>deeprep</title><link rel="icon" href="data:,">
 <meta http-equiv="refresh" content="0; url=web/index.html"><a href="web/index.html">deeprep</a>
