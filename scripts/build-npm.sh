@@ -12,6 +12,8 @@ cp web/client.js pkg/client.js
 # the feature probe worker.js picks its wasm build with
 mkdir -p pkg/lib && cp web/lib/workers.js web/lib/wasm-features.js pkg/lib/
 cp web/three.js pkg/three.js
+# DeeprepClient in Node: the worker on worker_threads
+cp web/node-worker.js pkg/node-worker.js
 sed "s#'./pkg-core/#'./core/#g" web/worker.js > pkg/worker.js
 # The worker's package without the GPU code (a smaller download: the in-betweening
 # needs no wgpu), in pkg/core/.
@@ -50,14 +52,14 @@ const fs = require("fs");
 const p = JSON.parse(fs.readFileSync("pkg/package.json", "utf8"));
 p.name = "deeprep";
 p.type = "module";
-p.files = [...new Set([...(p.files || []), "core", "lib", "client.js", "client.d.ts", "three.js", "three.d.ts", "worker.js", "models", "README.md", "LICENSE-MIT", "LICENSE-APACHE"])];
+p.files = [...new Set([...(p.files || []), "core", "lib", "client.js", "client.d.ts", "three.js", "three.d.ts", "worker.js", "node-worker.js", "models", "README.md", "LICENSE-MIT", "LICENSE-APACHE"])];
 p.peerDependencies = { three: ">=0.150.0" };
 p.peerDependenciesMeta = { three: { optional: true } };
 p.license = "MIT OR Apache-2.0";
 p.description = p.description || "Deep representations for shapes, structures and motion in the browser: keyframe in-betweening, rotations, HairNet, mesh autoencoders (Rust + WebAssembly)";
 p.keywords = ["animation", "motion", "in-betweening", "keyframes", "retargeting", "bvh", "webassembly", "wasm", "rotations", "hair", "mesh"];
 p.engines = { node: ">=20" };
-p.sideEffects = ["./worker.js"];
+p.sideEffects = ["./worker.js", "./node-worker.js"];
 // The publisher names the source repository (DEEPREP_REPOSITORY=https://...);
 // without it the package has no repository field rather than a made-up one.
 delete p.repository;

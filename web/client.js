@@ -33,11 +33,23 @@ export class DeeprepError extends Error {
   }
 }
 
+/** A worker_threads Worker behind the Web Worker interface WorkerChannel uses. */
+function nodeWorker(NodeWorker, url) {
+  const w = new NodeWorker(url);
+  return {
+    postMessage: (message, transfer) => w.postMessage(message, transfer),
+    terminate: () => { w.terminate(); },
+    set onmessage(f) { w.removeAllListeners('message'); w.on('message', (data) => f({ data })); },
+    set onerror(f) { w.removeAllListeners('error'); w.on('error', (e) => f({ message: e?.message || String(e), type: 'error' })); },
+  };
+}
+
 export class DeeprepClient {
   static async create({ modelBase, models, workerUrl, wasm, onProgress = () => {} } = {}) {
     const c = new DeeprepClient();
-    // Relative to the page, not to the worker's own URL.
-    const page = globalThis.document?.baseURI ?? globalThis.location?.href;
+    // Relative to the page, not to the worker's own URL (in Node: to the working directory).
+    const page = globalThis.document?.baseURI ?? globalThis.location?.href
+      ?? (globalThis.process?.cwd ? `file://${globalThis.process.cwd().replace(/\\/g, '/')}/` : undefined);
     c.modelBase = modelBase ? new URL(String(modelBase), page).href : undefined;
     c.models = models;
     c.onProgress = onProgress;
@@ -46,12 +58,24 @@ export class DeeprepClient {
     // another origin (a CDN), the browser refuses that worker: a same-origin
     // Blob module that imports it takes its place. The protocol, trap
     // recovery and aborts are web/lib/workers.js's, shared with the pages.
+    // Node 20+: the same worker on worker_threads (node-worker.js gives it
+    // the Web Worker globals and reads the package's files)
+    let NodeWorker = null;
     if (typeof Worker === 'undefined') {
-      throw new DeeprepError('E_WORKER', 'this environment has no Web Workers (Node, or a server-side render): '
-        + 'DeeprepClient runs in browsers; in Node, use the package\'s page-side API (import init from \'deeprep\')');
+      if (!globalThis.process?.versions?.node) {
+        throw new DeeprepError('E_WORKER', 'this environment has neither Web Workers nor Node\'s worker_threads: DeeprepClient cannot start its worker here');
+      }
+      const threads = 'node:worker_threads'; // not a literal: bundlers leave it alone
+      try {
+        ({ Worker: NodeWorker } = await import(/* webpackIgnore: true */ /* @vite-ignore */ threads));
+      } catch (e) {
+        throw new DeeprepError('E_WORKER', `Node's worker_threads could not be loaded: ${e?.message || e}`);
+      }
     }
-    const tried = workerUrl ? new URL(String(workerUrl), page).href : new URL('./worker.js', import.meta.url).href;
+    const nodeWorkerUrl = () => new URL(['.', 'node-worker.js'].join('/'), import.meta.url);
+    const tried = workerUrl ? new URL(String(workerUrl), page).href : (NodeWorker ? nodeWorkerUrl() : new URL('./worker.js', import.meta.url)).href;
     const make = () => {
+      if (NodeWorker) return nodeWorker(NodeWorker, new URL(tried));
       try {
         return workerUrl ? new Worker(tried, { type: 'module' }) : new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
       } catch (e) {
