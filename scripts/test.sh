@@ -57,10 +57,11 @@ node tests/web/bench_mesh_page.mjs --smoke
 DEEPREP_BENCH_SMOKE=1 cargo test --bench hair
 node tests/web/bench_hair_page.mjs --smoke
 
-section "npm package: wasm-pack, npm pack, fresh Vite and webpack 5 apps, a CDN page, Node, strict types"
+section "npm package: wasm-pack, npm pack, fresh Vite, webpack 5 and esbuild apps, a CDN page, Node, strict types"
 bash scripts/build-npm.sh
 bash tests/npm/vite_smoke.sh
 bash tests/npm/webpack_smoke.sh
+bash tests/npm/esbuild_smoke.sh
 node tests/npm/cdn_smoke.mjs pkg
 bash tests/npm/node_smoke.sh
 bash tests/npm/types_check.sh

@@ -19,9 +19,13 @@ for (let i = 0; i < runs && !failed; i++) {
   try {
     const page = await browser.context.newPage();
     // ./no-models/ is the app's own test of a failed model load: its 404s are expected
-    const expected = (u) => (u || '').includes('/no-models/');
+    // (and DEEPREP_EXPECT_404's path: a test's deliberate miss)
+    const miss = process.env.DEEPREP_EXPECT_404;
+    const expected = (u) => (u || '').includes('/no-models/') || Boolean(miss && (u || '').endsWith(miss) && !(u || '').includes('/deeprep/'));
     const errors = [];
-    page.on('console', (m) => { if (m.type() === 'error' && !expected(m.location()?.url)) errors.push(m.text()); });
+    // a failed load's console line names no URL; the response check below names it
+    const loadFailure = (m) => Boolean(miss) && /^Failed to load resource/.test(m.text());
+    page.on('console', (m) => { if (m.type() === 'error' && !expected(m.location()?.url) && !loadFailure(m)) errors.push(m.text()); });
     page.on('pageerror', (e) => errors.push(String(e)));
     page.on('response', (r) => { if (r.status() >= 400 && !expected(r.url())) errors.push(`HTTP ${r.status()} ${r.url()}`); });
     const t0 = Date.now();
