@@ -352,3 +352,35 @@ fn fk_fixture_shared_with_the_training_code() {
         assert!((*a as f64 - b).abs() < 1e-4, "{a} vs {b}");
     }
 }
+
+/// docs/cli.md holds `deeprep --help` word for word, so the CLI reference
+/// cannot drift from the binary (issue 52).
+#[test]
+fn the_cli_reference_is_the_help() {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_deeprep"))
+        .arg("--help")
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    let help = String::from_utf8(o.stdout).unwrap();
+    let doc = std::fs::read_to_string(common::root().join("docs/cli.md")).unwrap();
+    let block = doc
+        .split("```text\n")
+        .nth(1)
+        .and_then(|s| s.split("```").next())
+        .expect("docs/cli.md has a ```text block");
+    assert_eq!(
+        block, help,
+        "docs/cli.md is not `deeprep --help`: regenerate it (see its first lines)"
+    );
+    for cmd in [
+        "bvh retarget",
+        "bvh roles",
+        "inbetween --from-bvh",
+        "--fill",
+        "mesh topology",
+        "hair reconstruct",
+    ] {
+        assert!(help.contains(cmd), "the help lacks {cmd}");
+    }
+}
