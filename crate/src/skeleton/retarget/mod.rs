@@ -60,6 +60,9 @@ pub fn rest_positions(bvh: &Bvh) -> Vec<DVec3> {
     p
 }
 
+/// The longest bone retargeting accepts, in hips-to-feet heights.
+pub const MAX_BONE_OVER_LEGS: f64 = 100.0;
+
 /// Rest-pose distances below this count as the same place.
 const NEAR: f64 = 1e-6;
 
@@ -110,6 +113,19 @@ impl Retarget {
             return Err(Error::Invalid(format!(
                 "the hips must stand apart from the feet in both rest poses: {ls} (source) and {ld} (target) units"
             )));
+        }
+        // a bone far longer than the legs is a broken file, not a character
+        for (b, rest) in [(src, &rs), (dst, &rd)] {
+            let h = if std::ptr::eq(b, src) { ls } else { ld };
+            for (j, joint) in b.joints.iter().enumerate() {
+                let len = joint.parent.map_or(0.0, |p| rest[j].distance(rest[p]));
+                if !len.is_finite() || len > MAX_BONE_OVER_LEGS * h {
+                    return Err(Error::Invalid(format!(
+                        "joint '{}' is {len:e} units from its parent, over {MAX_BONE_OVER_LEGS} times the hips' height above the feet ({h:.4})",
+                        joint.name
+                    )));
+                }
+            }
         }
         let by_target: BTreeMap<usize, usize> = pairs.values().copied().collect();
         let mut follow: Vec<Option<(usize, DMat3)>> = vec![None; dst.joints.len()];
