@@ -259,7 +259,7 @@ async function loadDefault() {
     r = null;
   }
   if (!r || !r.ok) {
-    $('glb-note').textContent = 'The robot model (RobotExpressive.glb) is not on this site: choose a rigged .glb file with the picker above to see it here. (Site owners: scripts/build-site.sh copies it in when ../shared/data is present; the demo server serves it from there.)';
+    $('glb-note').textContent = 'The robot model (RobotExpressive.glb) is not on this site: choose a rigged .glb with the file picker above to see it here. (Site owners: scripts/build-site.sh copies it in when ../shared/data is present; the demo server serves it from there.)';
     setStatus('waiting for the robot glTF');
     document.body.dataset.needsGlb = '1';
     return;
