@@ -239,10 +239,7 @@ pub fn retarget(
         Some(m) if o.is_empty() && check_skeleton(b, m).is_ok() => model_roles(b),
         _ => RoleMap::with_overrides(b, o),
     };
-    let prefix = |which: &str, e: Error| match e {
-        Error::Invalid(m) => Error::Invalid(format!("{which} skeleton: {m}")),
-        other => other,
-    };
+    use crate::skeleton::retarget::prefix;
     let sm = roles(src, overrides).map_err(|e| prefix("source", e))?;
     let tm = roles(target, &Default::default()).map_err(|e| prefix("target", e))?;
     let r = Retarget::new(src, &sm, target, &tm)?;
@@ -291,10 +288,10 @@ impl OnModel {
         self.back.is_some()
     }
 
-    /// A fill made on [`OnModel::clip`] (the model's skeleton, the clip's
-    /// length and rate) on the user's skeleton: retargeted back with the
-    /// user's unmapped joints carried; the caller keeps the user's own rows
-    /// outside the gaps.
+    /// A result made on [`OnModel::clip`] (the model's skeleton, the
+    /// clip's length and rate) on the user's skeleton: retargeted back with
+    /// the user's unmapped joints carried (the result itself when the clip
+    /// was on the model's skeleton).
     pub fn back_whole(&self, user: &Bvh, result: Bvh) -> Result<Bvh> {
         let Some(r) = &self.back else {
             return Ok(result);
@@ -310,17 +307,23 @@ impl OnModel {
     /// from their clip, and the frames outside the keys' span and the keys
     /// themselves the user's own rows.
     pub fn back(&self, user: &Bvh, result: Bvh, ck: &ClipKeys) -> Result<Bvh> {
-        let Some(r) = &self.back else {
+        if self.back.is_none() {
             return Ok(result);
-        };
-        let mut out = r.clip(&result, user, Some(user))?;
-        let c = user.channel_count();
-        let (a, b) = ck.span();
-        let keep = |f: usize| f < a || f > b || ck.clip_frames.contains(&f);
-        for f in (0..user.frame_count()).filter(|&f| keep(f)) {
-            out.motion[f * c..(f + 1) * c].copy_from_slice(&user.motion[f * c..(f + 1) * c]);
         }
-        out.frame_time = user.frame_time;
+        let mut out = self.back_whole(user, result)?;
+        let (a, b) = ck.span();
+        keep_rows(&mut out, user, &|f| {
+            f < a || f > b || ck.clip_frames.contains(&f)
+        });
         Ok(out)
+    }
+}
+
+/// `out`'s rows of the frames where `keep(f)` holds replaced by `user`'s
+/// (same skeleton and frame count): what an edit leaves as the user had it.
+pub fn keep_rows(out: &mut Bvh, user: &Bvh, keep: &dyn Fn(usize) -> bool) {
+    let c = user.channel_count();
+    for f in (0..user.frame_count().min(out.frame_count())).filter(|&f| keep(f)) {
+        out.motion[f * c..(f + 1) * c].copy_from_slice(&user.motion[f * c..(f + 1) * c]);
     }
 }

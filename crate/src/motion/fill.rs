@@ -200,6 +200,32 @@ pub fn fill(
     Ok(out)
 }
 
+/// A fill made by [`fill`] on `on_model`'s clip (or on `user` itself when
+/// `on_model` is `None`) as the user gets it: on their skeleton (retargeted
+/// back when the clip was retargeted), every frame outside the gaps their
+/// own row, and as text: `user_text` (the file the clip was read from) with
+/// only the gaps' lines rewritten, or the whole clip written when that text
+/// is not one line a frame.
+pub fn on_user(
+    user: &Bvh,
+    user_text: &[u8],
+    filled: Bvh,
+    on_model: Option<&super::clip::OnModel>,
+    gaps: &[Gap],
+) -> Result<(Bvh, String)> {
+    let mut out = match on_model {
+        Some(m) => m.back_whole(user, filled)?,
+        None => filled,
+    };
+    let inside = |f: usize| gaps.iter().any(|g| (g.start..=g.end).contains(&f));
+    super::clip::keep_rows(&mut out, user, &|f| !inside(f));
+    let text = std::str::from_utf8(user_text)
+        .ok()
+        .and_then(|t| out.rewrite_frames(t, &inside))
+        .unwrap_or_else(|| out.write());
+    Ok((out, text))
+}
+
 /// Hermite basis at `u` in [0, 1]: (h00, h10, h01, h11).
 fn basis(u: f64) -> [f64; 4] {
     let (u2, u3) = (u * u, u * u * u);

@@ -180,7 +180,7 @@ fn export_clip(path: &str, prefix: &str) -> Result<(), String> {
 }
 
 /// The model's skeleton: the template in `DIR/tween_generator.manifest.json`.
-fn model_skeleton(models: &str) -> Result<Bvh, String> {
+pub fn model_skeleton(models: &str) -> Result<Bvh, String> {
     let p = std::path::Path::new(models).join("tween_generator.manifest.json");
     let text = std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))?;
     deeprep::motion::manifest::parse(&text)

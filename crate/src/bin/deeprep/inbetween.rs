@@ -283,11 +283,7 @@ fn uses_network(method: &str) -> bool {
 /// The networks' skeleton (the generator's manifest; the residual
 /// network's is the same).
 fn model_skeleton(o: &Opts) -> Result<deeprep::skeleton::Bvh, String> {
-    let p = std::path::Path::new(&o.models).join("tween_generator.manifest.json");
-    let text = std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))?;
-    deeprep::motion::manifest::parse(&text)
-        .map(|m| m.template)
-        .map_err(|e| format!("{}: {e}", p.display()))
+    super::bvh::model_skeleton(&o.models)
 }
 
 /// `--from-bvh CLIP --fill START-END ...`: each gap's frames synthesized
@@ -332,26 +328,13 @@ fn fill(
         Ok(m)
     })
     .map_err(|e| format!("--fill: {e}"))?;
-    let mut out = filled;
-    if let Some(m) = on_model.filter(|m| m.retargeted()) {
-        out = m.back_whole(user, out).map_err(|e| e.to_string())?;
-    }
-    // every frame outside the gaps is the input's own row
-    let c = user.channel_count();
-    let inside = |f: usize| gaps.iter().any(|g| (g.start..=g.end).contains(&f));
-    for f in (0..user.frame_count()).filter(|&f| !inside(f)) {
-        out.motion[f * c..(f + 1) * c].copy_from_slice(&user.motion[f * c..(f + 1) * c]);
-    }
     let path = o
         .out
         .clone()
         .ok_or("-o OUT.bvh is required with --from-bvh")?;
-    // the input's own text outside the gaps, byte for byte
     let original = std::fs::read(clip).map_err(|e| format!("{clip}: {e}"))?;
-    let text = std::str::from_utf8(&original)
-        .ok()
-        .and_then(|t| out.rewrite_frames(t, &inside))
-        .unwrap_or_else(|| out.write());
+    let (out, text) =
+        fill::on_user(user, &original, filled, on_model, &gaps).map_err(|e| e.to_string())?;
     std::fs::write(&path, text).map_err(|e| format!("{path}: {e}"))?;
     eprintln!(
         "wrote {path}: {} frames, {} gap(s) of {clip} filled ({} frames) with {} frames of context before and {} after by --method {}: {}",

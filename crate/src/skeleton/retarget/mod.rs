@@ -297,7 +297,8 @@ impl Retarget {
     }
 }
 
-fn prefix(which: &str, e: Error) -> Error {
+/// `e` with the skeleton it is about ("source" or "target") in front.
+pub(crate) fn prefix(which: &str, e: Error) -> Error {
     match e {
         Error::Invalid(m) => Error::Invalid(format!("{which} skeleton: {m}")),
         other => other,

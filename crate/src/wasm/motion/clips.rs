@@ -132,20 +132,8 @@ impl Inbetweener {
             Ok(served.motion)
         })
         .map_err(js_err)?;
-        let mut out = match on_model.as_ref().filter(|m| m.retargeted()) {
-            Some(m) => m.back_whole(&user, filled).map_err(js_err)?,
-            None => filled,
-        };
-        let c = user.channel_count();
-        let inside = |f: usize| gaps.iter().any(|g| (g.start..=g.end).contains(&f));
-        for f in (0..user.frame_count()).filter(|&f| !inside(f)) {
-            out.motion[f * c..(f + 1) * c].copy_from_slice(&user.motion[f * c..(f + 1) * c]);
-        }
-        // the input's own text outside the gaps, byte for byte
-        let text = std::str::from_utf8(bvh)
-            .ok()
-            .and_then(|t| out.rewrite_frames(t, &inside))
-            .unwrap_or_else(|| out.write());
+        let (out, text) =
+            fill::on_user(&user, bvh, filled, on_model.as_ref(), &gaps).map_err(js_err)?;
         let poses = (0..out.frame_count()).map(|f| crate::skeleton::Pose::read(&out, out.frame(f)));
         let (positions, tracks, frames) = positions_and_tracks(&out, poses);
         Ok(InbetweenResult {
