@@ -63,3 +63,23 @@ export function watchErrors(page) {
   page.on('pageerror', (e) => errors.push(String(e)));
   return errors;
 }
+
+/** The share of drawn pixels in a screenshot of the element `selector`
+ *  (what is on screen; decoded in the page): pixels brighter than the pages'
+ *  dark background by more than its shading. */
+export async function litInScreenshot(page, selector) {
+  const png = await page.locator(selector).screenshot();
+  return page.evaluate(async (b64) => {
+    const img = new Image();
+    img.src = `data:image/png;base64,${b64}`;
+    await img.decode();
+    const c = new OffscreenCanvas(img.width, img.height);
+    const g = c.getContext('2d');
+    g.drawImage(img, 0, 0);
+    const d = g.getImageData(0, 0, img.width, img.height).data;
+    // a pixel differs from the page's dark background by more than its shading
+    let lit = 0;
+    for (let i = 0; i < d.length; i += 4) if (Math.max(d[i], d[i + 1], d[i + 2]) > 60) lit++;
+    return lit / (d.length / 4);
+  }, png.toString('base64'));
+}

@@ -6,7 +6,7 @@ import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import fs from 'node:fs';
 import path from 'node:path';
-import { launch, startServer, watchErrors, ROOT } from './chromium.mjs';
+import { launch, litInScreenshot, startServer, watchErrors, ROOT } from './chromium.mjs';
 
 const GLB = path.resolve(process.env.DEEPREP_DATA || path.join(ROOT, '..', 'shared', 'data'), 'gltf', 'RobotExpressive.glb');
 const HAVE_GLB = fs.existsSync(GLB);
@@ -51,22 +51,6 @@ for (const [name, url, global, skip] of [
 // What is on screen (issue 52): a screenshot of each page's visible canvases,
 // decoded in the page and counted, at the default URL (WebGPU first, WebGL2
 // after the lost device) and with ?webgl2. Nothing the test triggers draws.
-async function litInScreenshot(page, selector) {
-  const png = await page.locator(selector).screenshot();
-  return page.evaluate(async (b64) => {
-    const img = new Image();
-    img.src = `data:image/png;base64,${b64}`;
-    await img.decode();
-    const c = new OffscreenCanvas(img.width, img.height);
-    const g = c.getContext('2d');
-    g.drawImage(img, 0, 0);
-    const d = g.getImageData(0, 0, img.width, img.height).data;
-    // a pixel differs from the page's dark background by more than its shading
-    let lit = 0;
-    for (let i = 0; i < d.length; i += 4) if (Math.max(d[i], d[i + 1], d[i + 2]) > 60) lit++;
-    return lit / (d.length / 4);
-  }, png.toString('base64'));
-}
 
 for (const [name, url, canvases, skip] of [
   ['sketching', '/web/index.html', ['#view'], false],

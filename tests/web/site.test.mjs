@@ -4,7 +4,7 @@ import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import fs from 'node:fs';
 import path from 'node:path';
-import { launch, watchErrors, ROOT } from './chromium.mjs';
+import { launch, litInScreenshot, watchErrors, ROOT } from './chromium.mjs';
 import { serve } from '../../scripts/serve.mjs';
 
 const DIST = path.join(ROOT, 'web/dist');
@@ -47,19 +47,7 @@ test('web/dist from a subfolder: every page reaches ready, the mesh page with th
       await page.waitForSelector('body[data-ready="1"]', { timeout: 180_000 });
       if (name === 'mesh') {
         await new Promise((r) => setTimeout(r, 1000));
-        const png = await page.locator('#view').screenshot();
-        const lit = await page.evaluate(async (b64) => {
-          const img = new Image();
-          img.src = `data:image/png;base64,${b64}`;
-          await img.decode();
-          const c = new OffscreenCanvas(img.width, img.height);
-          const g = c.getContext('2d');
-          g.drawImage(img, 0, 0);
-          const d = g.getImageData(0, 0, img.width, img.height).data;
-          let n = 0;
-          for (let i = 0; i < d.length; i += 4) if (Math.max(d[i], d[i + 1], d[i + 2]) > 60) n++;
-          return n / (d.length / 4);
-        }, png.toString('base64'));
+        const lit = await litInScreenshot(page, '#view');
         assert.ok(lit > 0.01, `the mesh page shows no robot (${lit})`);
       }
       assert.deepEqual(errors, [], `${name}: ${errors.join(' | ')}`);

@@ -26,6 +26,26 @@ PHASE_FRAMES = 60
 
 # ---------------------------------------------------------------- data
 
+def add_clip(store, split, name, bvh):
+    """Drops a 60 fps clip's under-floor frames (motion.data's rule) and adds
+    its segments' root positions and local joint quaternions to store[split]."""
+    names, _, _, chans, _ = bvh
+    trans, loc = local_fk(bvh)
+    pos, _ = fk_from_local(bvh, trans, loc)
+    keep, floor = floor_segments(pos)
+    rj = [j for j in range(len(names)) if chans[j]]
+    q = mat_to_quat(loc[:, rj]).astype(np.float32)
+    root = trans[:, 0].copy()
+    root[:, 1] -= floor
+    for a, b in runs(keep):
+        if b - a < MIN_SEGMENT:
+            continue
+        store[split]["root"].append(root[a:b].astype(np.float32))
+        store[split]["quat"].append(q[a:b])
+        store[split]["len"].append(b - a)
+        store[split]["name"].append(f"{name}@{a}")
+
+
 def prepare(path):
     """Reads every clip, resamples to 60 fps, drops under-floor frames
     (motion.data's rule) and caches root positions and local joint
@@ -36,27 +56,11 @@ def prepare(path):
         for name in sorted(os.listdir(os.path.join(DATA, cls))):
             if not name.endswith(".bvh"):
                 continue
-            bvh = read_bvh(os.path.join(DATA, cls, name))
-            names, parents, offsets, chans, data = bvh
-            step = TRUE_FPS[cls] // 60
-            bvh = (names, parents, offsets, chans, data[::step])
-            trans, loc = local_fk(bvh)
-            pos, _ = fk_from_local(bvh, trans, loc)
+            names, parents, offsets, chans, data = read_bvh(os.path.join(DATA, cls, name))
             if skel is None:
                 skel = (names, parents, offsets, chans)
-            keep, floor = floor_segments(pos)
-            rj = [j for j in range(len(names)) if chans[j]]
-            q = mat_to_quat(loc[:, rj]).astype(np.float32)
-            root = trans[:, 0].copy()
-            root[:, 1] -= floor
             split = "val" if take_of(cls, int(name[:-4])) in VALIDATION else "train"
-            for a, b in runs(keep):
-                if b - a < MIN_SEGMENT:
-                    continue
-                store[split]["root"].append(root[a:b].astype(np.float32))
-                store[split]["quat"].append(q[a:b])
-                store[split]["len"].append(b - a)
-                store[split]["name"].append(f"{cls}/{name}@{a}")
+            add_clip(store, split, f"{cls}/{name}", (names, parents, offsets, chans, data[::TRUE_FPS[cls] // 60]))
     # cmu-extra's locomotion retargeted onto the model's skeleton (motion.extra)
     from deeprep_train.motion.extra import OUT as EXTRA60, EXTRA_VALIDATION
     for dirpath, _, files in sorted(os.walk(EXTRA60)):
@@ -64,25 +68,10 @@ def prepare(path):
             if not name.endswith(".bvh"):
                 continue
             bvh = read_bvh(os.path.join(dirpath, name))
-            names_x = bvh[0]
-            if names_x != skel[0]:
+            if bvh[0] != skel[0]:
                 sys.exit(f"{dirpath}/{name} is not on the model's skeleton")
-            trans, loc = local_fk(bvh)
-            pos, _ = fk_from_local(bvh, trans, loc)
-            keep, floor = floor_segments(pos)
-            rj = [j for j in range(len(names_x)) if bvh[3][j]]
-            q = mat_to_quat(loc[:, rj]).astype(np.float32)
-            root = trans[:, 0].copy()
-            root[:, 1] -= floor
             split = "val" if name[:-4] in EXTRA_VALIDATION else "train"
-            rel = os.path.relpath(os.path.join(dirpath, name), EXTRA60)
-            for a, b in runs(keep):
-                if b - a < MIN_SEGMENT:
-                    continue
-                store[split]["root"].append(root[a:b].astype(np.float32))
-                store[split]["quat"].append(q[a:b])
-                store[split]["len"].append(b - a)
-                store[split]["name"].append(f"extra/{rel}@{a}")
+            add_clip(store, split, "extra/" + os.path.relpath(os.path.join(dirpath, name), EXTRA60), bvh)
     names, parents, offsets, chans = skel
     arrays = {"names": np.array(names), "parents": np.array(parents), "offsets": np.array(offsets, np.float32),
               "rotating": np.array([j for j in range(len(names)) if chans[j]])}
