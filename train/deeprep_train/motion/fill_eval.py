@@ -43,7 +43,7 @@ METHODS = {
     # the network alone (the residual network for whole-pose keys), every context frame a key
     "residual": ["--method", "residual"],
     # the network with only the last context frame and the target as keys
-    "residual-2": ["--method", "residual", "--context-keys", "1"],
+    "residual-2": ["--method", "residual", "--context", "1,1"],
     # the default: motion::fill::method_for (Hermite up to 45 frames, the network beyond)
     "model": ["--method", "model"],
 }
@@ -89,11 +89,9 @@ def main():
                             if not mine:
                                 continue
                             out = os.path.join(tmp, "out.bvh")
-                            extra = list(METHODS[m])
+                            # a method's own --context comes last and wins
+                            extra = METHODS[m]
                             ctx = f"{CONTEXT},{after}"
-                            if "--context-keys" in extra:
-                                extra = extra[:2]
-                                ctx = "1,1"
                             fills = sum((["--fill", f"{s}-{s + L - 1}"] for s in mine), [])
                             r = subprocess.run([cli(), "inbetween", "--from-bvh", clip, "-o", out, "--context", ctx]
                                                + fills + extra, capture_output=True, text=True, cwd=ROOT)
