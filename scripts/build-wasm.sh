@@ -3,7 +3,8 @@
 # and the same without the GPU code (no wgpu: the viewer and HairNet's WebGPU
 # decoder) into web/pkg-core, which the in-betweening worker loads (a smaller
 # download), with a relaxed-SIMD twin of its .wasm (scripts/build-relaxed-core.sh).
-# The two plain builds share one target directory: only the crate recompiles.
+# All three share one target directory and one build of std and the
+# dependencies: only the crate is compiled three times.
 #   scripts/build-wasm.sh              release build, unoptimized .wasm (fast)
 #   scripts/build-wasm.sh --opt        plus wasm-opt -Os (npm binaryen; Debian's is too old)
 #   scripts/build-wasm.sh --pages-only only web/pkg, one build (the demo's): the worker's core
@@ -33,13 +34,12 @@ for out in "${outs[@]}"; do
       --enable-reference-types --enable-bulk-memory --enable-nontrapping-float-to-int \
       --enable-sign-ext --enable-multivalue --enable-mutable-globals
   fi
+  # the core again with relaxed SIMD: web/pkg-core/deeprep_relaxed_bg.wasm
+  if [ "$out" = pkg-core ]; then bash scripts/build-relaxed-core.sh web/pkg-core; fi
 done
 if [ "$PAGES_ONLY" = 1 ]; then
   echo "{\"pages_only\": 1, \"build_seconds\": $(( $(date +%s) - t0 ))}"
   exit 0
 fi
-# the core again with relaxed SIMD: web/pkg-core/deeprep_relaxed_bg.wasm
-bash scripts/build-relaxed-core.sh web/pkg-core
-# the full package is built last, so target/ holds it for the wasm tests
 size() { echo "\"$1_bytes\": $(stat -c %s "web/$2"), \"$1_gzip_bytes\": $(gzip -9 -c "web/$2" | wc -c)"; }
 echo "{$(size wasm pkg/deeprep_bg.wasm), $(size core_wasm pkg-core/deeprep_bg.wasm), $(size core_relaxed_wasm pkg-core/deeprep_relaxed_bg.wasm), \"optimized\": $OPT, \"build_seconds\": $(( $(date +%s) - t0 ))}"
