@@ -1,11 +1,22 @@
 #!/usr/bin/env bash
 # Formatting and clippy, natively and for the wasm32 target (the wasm-bindgen
 # layer compiles only there). Warnings are errors. Run from anywhere.
+#   bash scripts/lint.sh                    fmt, clippy native and wasm32
+#   bash scripts/lint.sh --no-native-clippy fmt, clippy wasm32 only: scripts/test.sh
+#                                           lints natively while it builds the tests
+#                                           (scripts/native-cargo.sh)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH="$HOME/.cargo/bin:$PATH"
+NATIVE=1
+for a in "$@"; do
+  case "$a" in
+    --no-native-clippy) NATIVE=0 ;;
+    *) echo "lint.sh: unknown option $a" >&2; exit 2 ;;
+  esac
+done
 cargo fmt --all --check
-cargo clippy --all-targets -q -- -D warnings
+if [ "$NATIVE" = 1 ]; then cargo clippy --all-targets -q -- -D warnings; fi
 # wasm32: Debian's rustc-web with -Zbuild-std, and its clippy (rust-web-clippy,
 # installed by scripts/setup.sh); both the CPU-only and the GPU feature sets.
 source scripts/wasm-env.sh
@@ -15,4 +26,4 @@ if [ ! -x "$SHIM/clippy-driver" ]; then
 fi
 cargo clippy -p deeprep --lib "${WASM_CARGO_FLAGS[@]}" --release -q -- -D warnings
 cargo clippy -p deeprep --lib "${WASM_CARGO_FLAGS[@]}" --release --no-default-features --features onnx -q -- -D warnings
-echo "lint: fmt, clippy (native, wasm32) clean"
+if [ "$NATIVE" = 1 ]; then echo "lint: fmt, clippy (native, wasm32) clean"; else echo "lint: fmt, clippy (wasm32) clean"; fi

@@ -23,11 +23,15 @@ summary() {
 }
 trap summary EXIT
 
-section "lint: cargo fmt, clippy natively and for wasm32 (warnings are errors)"
-bash scripts/lint.sh
+section "lint: cargo fmt, clippy for wasm32 (warnings are errors)"
+bash scripts/lint.sh --no-native-clippy
 
-section "native: cargo test"
-cargo test --workspace
+# Natively, clippy is the workspace's compiler (scripts/native-cargo.sh): the
+# test build is the lint, with warnings as errors, and every native cargo
+# command below shares it.
+section "native: clippy and cargo test (every target: lib, CLI, tests, benches, examples)"
+bash scripts/native-cargo.sh test --workspace --all-targets --no-run
+bash scripts/native-cargo.sh test --workspace
 
 section "fuzz: smoke (10^4 executions per target; full runs: bash scripts/fuzz.sh --runs 1000000)"
 bash scripts/fuzz.sh --runs 10000
@@ -48,13 +52,13 @@ section "wasm: wasm-bindgen-test in headless Chromium"
 )
 
 section "bench: smoke runs (one 512-frame in-betweening, one mesh encode/decode, one hair reconstruction; full run: bash scripts/bench.sh)"
-DEEPREP_BENCH_SMOKE=1 cargo test --bench inbetween
+DEEPREP_BENCH_SMOKE=1 bash scripts/native-cargo.sh test --bench inbetween
 node tests/web/bench_page.mjs --smoke
 node tests/web/bench_ort_page.mjs --smoke
 node tests/web/bench_plans.mjs 256
-DEEPREP_BENCH_SMOKE=1 cargo test --bench mesh
+DEEPREP_BENCH_SMOKE=1 bash scripts/native-cargo.sh test --bench mesh
 node tests/web/bench_mesh_page.mjs --smoke
-DEEPREP_BENCH_SMOKE=1 cargo test --bench hair
+DEEPREP_BENCH_SMOKE=1 bash scripts/native-cargo.sh test --bench hair
 node tests/web/bench_hair_page.mjs --smoke
 
 section "npm package: wasm-pack, npm pack, fresh Vite, webpack 5 and esbuild apps, a CDN page, Node, strict types"
