@@ -4,8 +4,7 @@ use deeprep::skeleton::{fk, Bvh, Channel};
 use deeprep::Error;
 use std::path::PathBuf;
 
-mod common;
-#[path = "bvh/retarget.rs"]
+use crate::common;
 mod retarget;
 
 /// A small skeleton the project makes itself: a 6-channel root, two

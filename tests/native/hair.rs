@@ -4,7 +4,7 @@
 use deeprep::hair::{self, generator::*, render::*, strand, upsample, Body, Scalp, GRID, POINTS};
 use deeprep::rng::Rng;
 
-mod common;
+use crate::common;
 
 fn style(length: Length, curl: Curl, seed: u64) -> (Style, Rng) {
     let mut rng = Rng::new(seed);
@@ -294,7 +294,6 @@ fn the_collision_error_follows_eq_3_3() {
     let _ = hair::GRID;
 }
 
-#[path = "hair/model.rs"]
 mod model;
 
 /// The photo path's filter bank recovers known orientations: straight

@@ -5,7 +5,7 @@
 use deeprep::ik::IkModel;
 use deeprep::skeleton::{fk, Bvh};
 
-mod common;
+use crate::common;
 use common::{floats, root};
 
 fn fixture() -> serde_json::Value {

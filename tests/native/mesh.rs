@@ -6,7 +6,7 @@
 use deeprep::mesh::{sample, Graph};
 use deeprep::rng::Rng;
 
-mod common;
+use crate::common;
 
 fn path(n: usize) -> Graph {
     let e: Vec<_> = (1..n).map(|i| (i - 1, i)).collect();
@@ -532,5 +532,4 @@ fn the_robot_reconstructs_and_one_latent_vertex_edits_locally() {
     }
 }
 
-#[path = "mesh/files.rs"]
 mod files;

@@ -18,7 +18,7 @@ const NORM: Norm = Norm {
     dt_clip: 600.0,
 };
 
-mod common;
+use crate::common;
 use common::root;
 
 fn key(frame: usize, vals: &[f32], mask: &[bool]) -> Keyframe {
@@ -619,13 +619,8 @@ fn foot_locking_pins_a_sliding_foot_and_keeps_keys_exact() {
     assert_eq!(m2.rotations, before.rotations);
 }
 
-#[path = "motion/clips.rs"]
 mod clips;
-#[path = "motion/fill.rs"]
 mod fill;
-#[path = "motion/keys.rs"]
 mod keys;
-#[path = "motion/pipeline.rs"]
 mod pipeline;
-#[path = "motion/retargeted.rs"]
 mod retargeted;

@@ -593,7 +593,7 @@ fn batch_errors_are_clear() {
 // ---------------------------------------------------------------------------
 // The fixture that the wasm suite (tests/wasm/browser.rs) compares against:
 // inputs and the native outputs of every representation. Regenerate with
-// DEEPREP_BLESS=1 cargo test --test rotation native_fixture.
+// DEEPREP_BLESS=1 cargo test --test native rotation::native_fixture.
 
 pub const FIXTURE_REPRS: [&str; 10] = [
     "matrix",

@@ -99,7 +99,7 @@ def main():
                 f"{min(p['reconstruction_30000_straight_ms'], p['reconstruction_30000_with_curls_ms']):.0f}–{max(p['reconstruction_30000_straight_ms'], p['reconstruction_30000_with_curls_ms']):.0f} ms | {mb:.1f} MiB |",
                 "| thesis (GPU, full width, 9K) | 20 ms | 10 ms | 10–50 ms | 40–80 ms | | 70 MiB |", "",
                 "The strand MLPs also run as a WGSL compute shader (`crate/src/hair/gpu.rs`), natively (Vulkan) and on WebGPU in "
-                "the browser (`HairLab.openGpu()`, the page's \"Strand MLPs on\" choice). `cargo test --test hair gpu` checks it "
+                "the browser (`HairLab.openGpu()`, the page's \"Strand MLPs on\" choice). `cargo test --test native hair::gpu` checks it "
                 "against tract on 30,000 strands (largest difference 2e-8 m on Mesa's lavapipe) and `tests/web/hair.test.mjs` on "
                 "9,000 strands in Chromium (1e-7 m on SwiftShader's WebGPU). Both are software GPUs here, slower than the CPU "
                 "path; on real hardware the shader is one dispatch. The CPU path is the default and the fallback without WebGPU.", ""]
@@ -119,7 +119,7 @@ def main():
             "512-d hair code.",
             "- Preprocessing: no PSPNet or face fitting; the user supplies the hair mask, and body pixels can be marked with a "
             "second mask (the page uses none). The orientation filter is a bank of 24 Gabor kernels (σ 1.8 / 2.4 px, "
-            "wavelength 4 px, after Paris et al.), tested on synthetic stripes and rings (`cargo test --test hair gabor`).", ""]
+            "wavelength 4 px, after Paris et al.), tested on synthetic stripes and rings (`cargo test --test native hair::gabor`).", ""]
     open(os.path.join(ROOT, "docs", "hair.md"), "w").write("\n".join(out))
     print("\n".join(out))
 

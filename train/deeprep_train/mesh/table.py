@@ -87,7 +87,7 @@ def main():
             "bases B). Files: 3.8 MB for both graphs. Multiplied out at load, the kernels take about 84 MB of memory (the "
             "size of the matmul-form files), natively and in the browser.", "",
             "## Locality (Fig. 2.7) and the page", "",
-            "`cargo test --test mesh the_robot_reconstructs -- --nocapture` encodes a held-out Wave pose and a Punch pose, "
+            "`cargo test --test native mesh::the_robot_reconstructs -- --nocapture` encodes a held-out Wave pose and a Punch pose, "
             "moves one latent vertex's code from Wave to Punch, and measures how far each vertex moves, in that latent vertex's "
             "region (the vertices nearest it by graph distance) and elsewhere; the test requires the region to move at least "
             "1.5× more. Measured: right hand 1.97 vs 0.091 units, left hand 0.206 vs 0.060, left foot 0.126 vs 0.071, right "
