@@ -24,6 +24,15 @@ if [ ! -x "$SHIM/clippy-driver" ]; then
   echo "lint: SKIP wasm32 clippy: rust-web-clippy is not installed (bash scripts/setup.sh)" >&2
   exit 0
 fi
-cargo clippy -p deeprep --lib "${WASM_CARGO_FLAGS[@]}" --release -q -- -D warnings
-cargo clippy -p deeprep --lib "${WASM_CARGO_FLAGS[@]}" --release --no-default-features --features onnx -q -- -D warnings
+# Clippy is deeprep's compiler here (a workspace wrapper, as `cargo clippy`
+# does) but the dependencies are the release build's own, compiled as
+# scripts/build-wasm.sh compiles them: `cargo clippy` would check std, tract
+# and wgpu a second time in check mode (about two minutes, issue 48).
+# -Zno-codegen: lints only, no code (the build compiles the crate itself).
+wasm_clippy() {
+  RUSTC_WORKSPACE_WRAPPER="$SHIM/clippy-driver" cargo rustc -p deeprep --lib "${WASM_CARGO_FLAGS[@]}" \
+    --release "$@" --crate-type lib -q -- -Zno-codegen -D warnings
+}
+wasm_clippy --no-default-features --features onnx
+wasm_clippy
 if [ "$NATIVE" = 1 ]; then echo "lint: fmt, clippy (native, wasm32) clean"; else echo "lint: fmt, clippy (wasm32) clean"; fi
