@@ -2,9 +2,24 @@
 # Builds the npm package `deeprep` with wasm-pack into pkg/ (ESM, --target
 # web, TypeScript types), adds the worker-backed client (client.js,
 # worker.js, client.d.ts), and packs it: pkg/deeprep-<version>.tgz.
+#   scripts/build-npm.sh                      builds everything
+#   scripts/build-npm.sh --core-from web/pkg-core
+#       takes the core and its relaxed twin from scripts/build-wasm.sh's output
+#       of the same sources (scripts/test.sh, one run): switching the crate's
+#       features would otherwise recompile it twice more (about a minute).
 set -euo pipefail
 source "$(dirname "$0")/wasm-env.sh"
 cd "$ROOT"
+CORE_FROM=
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --core-from) CORE_FROM="$(cd "${2:?--core-from DIR}" && pwd)"; shift 2 ;;
+    *) echo "build-npm.sh: unknown option $1" >&2; exit 2 ;;
+  esac
+done
+if [ -n "$CORE_FROM" ] && [ ! -f "$CORE_FROM/deeprep_relaxed_bg.wasm" ]; then
+  echo "build-npm.sh: $CORE_FROM has no core build (bash scripts/build-wasm.sh)" >&2; exit 2
+fi
 rm -rf pkg
 wasm-pack build crate --mode force --no-opt --target web --out-dir ../pkg --out-name deeprep --release -- "${WASM_CARGO_FLAGS[@]:2}"
 cp web/client.js pkg/client.js
@@ -16,12 +31,19 @@ cp web/three.js pkg/three.js
 cp web/node-worker.js pkg/node-worker.js
 sed "s#'./pkg-core/#'./core/#g" web/worker.js > pkg/worker.js
 # The worker's package without the GPU code (a smaller download: the in-betweening
-# needs no wgpu), in pkg/core/.
-cargo build -p deeprep --lib --release --no-default-features --features onnx "${WASM_CARGO_FLAGS[@]:2}" --target wasm32-unknown-unknown
-wasm-bindgen target/wasm32-unknown-unknown/release/deeprep.wasm --out-dir pkg/core --target web --remove-name-section --remove-producers-section
-rm -f pkg/core/.gitignore pkg/core/package.json
-# and again with relaxed SIMD, pkg/core/deeprep_relaxed_bg.wasm (worker.js picks it where the browser has it)
-bash scripts/build-relaxed-core.sh pkg/core
+# needs no wgpu), in pkg/core/, with its relaxed-SIMD twin
+# (deeprep_relaxed_bg.wasm, worker.js picks it where the browser has it).
+if [ -n "$CORE_FROM" ]; then
+  mkdir -p pkg/core
+  for f in deeprep.js deeprep.d.ts deeprep_bg.wasm deeprep_bg.wasm.d.ts deeprep_relaxed_bg.wasm; do
+    cp "$CORE_FROM/$f" pkg/core/
+  done
+else
+  cargo build -p deeprep --lib --release --no-default-features --features onnx "${WASM_CARGO_FLAGS[@]:2}" --target wasm32-unknown-unknown
+  wasm-bindgen target/wasm32-unknown-unknown/release/deeprep.wasm --out-dir pkg/core --target web --remove-name-section --remove-producers-section
+  rm -f pkg/core/.gitignore pkg/core/package.json
+  bash scripts/build-relaxed-core.sh pkg/core
+fi
 # Strip debug sections (the name section alone was 14 MB) with binaryen from
 # npm (Debian's wasm-opt is too old for wasm-bindgen's reference types). No
 # -Os: it shrinks the raw file but grows the gzip'd download (README, size).

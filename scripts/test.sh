@@ -62,7 +62,7 @@ DEEPREP_BENCH_SMOKE=1 bash scripts/native-cargo.sh test --bench hair
 node tests/web/bench_hair_page.mjs --smoke
 
 section "npm package: wasm-pack, npm pack, fresh Vite, webpack 5 and esbuild apps, a CDN page, Node, strict types"
-bash scripts/build-npm.sh
+bash scripts/build-npm.sh --core-from web/pkg-core
 bash tests/npm/vite_smoke.sh
 bash tests/npm/webpack_smoke.sh
 bash tests/npm/esbuild_smoke.sh
