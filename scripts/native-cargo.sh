@@ -8,7 +8,7 @@
 # native cargo command in scripts/test.sh goes through this script, so they
 # agree on the compiler and nothing is rebuilt between them.
 #   bash scripts/native-cargo.sh test --workspace
-#   bash scripts/native-cargo.sh test --test bvh
+#   bash scripts/native-cargo.sh test --test native bvh
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export PATH="$HOME/.cargo/bin:$PATH"
