@@ -92,7 +92,8 @@ section "static site: web/dist"
 bash scripts/build-site.sh
 
 section "web: the page in headless Chromium (Playwright)"
-node --test tests/web/
+# two test files at a time: each is mostly a browser waiting on its renderer
+node --test --test-concurrency=2 tests/web/
 
 trap - EXIT
 summary
