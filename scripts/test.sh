@@ -21,27 +21,23 @@ summary() {
   done
   printf '%6s  total\n' "$(( end - t_start ))"
 }
-# The native build (below) runs in the background from the start; a failed
-# run stops it.
-native_pid=
-on_exit() {
-  if [ -n "$native_pid" ]; then kill "$native_pid" 2>/dev/null || true; fi
-  summary
-}
-trap on_exit EXIT
-
-# Natively, clippy is the workspace's compiler (scripts/native-cargo.sh): the
-# test build is the lint, with warnings as errors, and every native cargo
-# command below shares it. It is built beside the wasm lint and build (its
-# own target/debug, so no lock is shared): each of the two is mostly one
-# chain of crates (tract's) that leaves a core idle on its own (issue 48).
-native_log="$(mktemp)"
-bash scripts/native-cargo.sh test --workspace --all-targets --no-run > "$native_log" 2>&1 &
-native_pid=$!
-printf '\n==== native: building in the background (its log follows in the native section)\n'
+trap summary EXIT
 
 section "lint: cargo fmt, clippy for wasm32 (warnings are errors)"
 bash scripts/lint.sh --no-native-clippy
+
+# Natively, clippy is the workspace's compiler (scripts/native-cargo.sh): the
+# test build is the lint, with warnings as errors, and every native cargo
+# command below shares it.
+section "native: clippy and cargo test (every target: lib, CLI, tests, benches, examples)"
+bash scripts/native-cargo.sh test --workspace --all-targets --no-run
+bash scripts/native-cargo.sh test --workspace
+
+section "fuzz: smoke (10^4 executions per target; full runs: bash scripts/fuzz.sh --runs 1000000)"
+bash scripts/fuzz.sh --runs 10000
+
+section "parity: onnxruntime against committed fixtures"
+.venv/bin/python -m pytest -q tests/parity
 
 section "wasm: build the package"
 bash scripts/build-wasm.sh
@@ -54,20 +50,6 @@ section "wasm: wasm-bindgen-test in headless Chromium"
   # wasm-bindgen-test-runner reads crate/webdriver.json (cargo runs it in the package root)
   cargo test -p deeprep --release "${WASM_CARGO_FLAGS[@]}" --test wasm_browser
 )
-
-section "native: clippy and cargo test (every target: lib, CLI, tests, benches, examples)"
-native_rc=0
-wait "$native_pid" || native_rc=$?
-native_pid=
-cat "$native_log"; rm -f "$native_log"
-if [ "$native_rc" != 0 ]; then echo "native build failed (exit $native_rc)" >&2; exit "$native_rc"; fi
-bash scripts/native-cargo.sh test --workspace
-
-section "fuzz: smoke (10^4 executions per target; full runs: bash scripts/fuzz.sh --runs 1000000)"
-bash scripts/fuzz.sh --runs 10000
-
-section "parity: onnxruntime against committed fixtures"
-.venv/bin/python -m pytest -q tests/parity
 
 section "bench: smoke runs (one 512-frame in-betweening, one mesh encode/decode, one hair reconstruction; full run: bash scripts/bench.sh)"
 DEEPREP_BENCH_SMOKE=1 bash scripts/native-cargo.sh test --bench inbetween
