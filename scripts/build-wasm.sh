@@ -22,6 +22,8 @@ for a in "$@"; do
 done
 t0=$(date +%s)
 WASM=target/wasm32-unknown-unknown/release/deeprep.wasm
+# the full package last: target/ then holds its build, which the wasm tests and
+# build-npm.sh's wasm-pack (same features) find fresh
 outs=(pkg-core pkg)
 if [ "$PAGES_ONLY" = 1 ]; then outs=(pkg); rm -rf web/pkg-core; fi
 for out in "${outs[@]}"; do
