@@ -289,6 +289,7 @@ fn the_residual_model_keeps_keys_and_scales_by_variation() {
     let loaded = Loaded {
         generator: Some(0.25),
         residual: Some(m.info()),
+        cond: None,
     };
     let model = |keys: &[Keyframe], dna: bool| {
         let ask = Ask {
@@ -620,6 +621,7 @@ fn foot_locking_pins_a_sliding_foot_and_keeps_keys_exact() {
 }
 
 mod clips;
+mod cond;
 mod fill;
 mod keys;
 mod pipeline;

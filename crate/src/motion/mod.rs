@@ -17,6 +17,7 @@
 
 pub mod baseline;
 pub mod clip;
+pub mod cond;
 pub mod dense;
 pub mod dna;
 pub mod edit;

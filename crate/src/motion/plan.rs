@@ -9,10 +9,15 @@
 //!   its manifest makes it the model for whole-pose keys, post-processing
 //!   is on, every key is a whole pose with rotations, no Motion DNA is
 //!   given (it has no DNA input) and no two keys are more than
-//!   [`MAX_GAP`](super::MAX_GAP) frames apart; otherwise the generator
-//!   pipeline (root-only and 2-D keys, DNA, long gaps).
-//! - `generator`, `residual`: that pipeline (the residual network takes
-//!   whole-pose keys only, no DNA, and always makes keys exact).
+//!   [`MAX_GAP`](super::MAX_GAP) frames apart; else the conditional
+//!   network when it is loaded, its manifest makes it the model for
+//!   partial keys, post-processing is on and it takes the keys
+//!   ([`cond_takes`]: whole poses, root positions and 2-D keys of every
+//!   joint, no DNA, no gap over `MAX_GAP`); otherwise the generator
+//!   pipeline (other partial keys, DNA, long gaps).
+//! - `generator`, `residual`, `cond`: that pipeline (the residual network
+//!   takes whole-pose keys only, no DNA, and always makes keys exact; the
+//!   conditional network takes what [`cond_takes`] accepts).
 //! - `slerp`, `zerovel`: the interpolation baselines (variation 0).
 //!
 //! The variation is the request's when it gives one, else the chosen
@@ -20,6 +25,7 @@
 //! root-only keys never run the generator at the residual network's
 //! default; it is checked by [`check_variation`](super::check_variation).
 
+pub use super::cond::{cond_takes, CondInfo};
 use super::{check_variation, Keyframe, MAX_GAP};
 use crate::error::{Error, Result};
 
@@ -28,6 +34,8 @@ use crate::error::{Error, Result};
 pub enum Pipeline {
     /// The supervised residual network on SLERP+LERP (whole-pose keys).
     Residual,
+    /// The conditional network (whole-pose, root-only and 2-D keys).
+    Cond,
     /// The generator, RC-FK, path predictor and post-processing (Fig. 5.1).
     Generator,
     /// SLERP+LERP interpolation.
@@ -38,10 +46,11 @@ pub enum Pipeline {
 
 impl Pipeline {
     /// The name results and messages carry: "residual", "generator",
-    /// "slerp" or "zerovel".
+    /// "slerp", "zerovel" or "cond".
     pub fn name(self) -> &'static str {
         match self {
             Pipeline::Residual => "residual",
+            Pipeline::Cond => "cond",
             Pipeline::Generator => "generator",
             Pipeline::Slerp => "slerp",
             Pipeline::ZeroVelocity => "zerovel",
@@ -50,7 +59,7 @@ impl Pipeline {
 }
 
 /// The methods a request may name.
-pub const METHODS: [&str; 5] = ["model", "generator", "residual", "slerp", "zerovel"];
+pub const METHODS: [&str; 6] = ["model", "generator", "residual", "cond", "slerp", "zerovel"];
 
 /// What is loaded, as the planner needs it.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -60,6 +69,8 @@ pub struct Loaded {
     pub generator: Option<f32>,
     /// The residual network, when loaded.
     pub residual: Option<ResidualInfo>,
+    /// The conditional network, when loaded.
+    pub cond: Option<CondInfo>,
 }
 
 /// The residual network's manifest, as the planner needs it.
@@ -74,7 +85,7 @@ pub struct ResidualInfo {
 /// A request, as the planner needs it.
 #[derive(Copy, Clone, Debug)]
 pub struct Ask<'a> {
-    /// `model`, `generator`, `residual`, `slerp` or `zerovel`.
+    /// `model`, `generator`, `residual`, `cond`, `slerp` or `zerovel`.
     pub method: &'a str,
     /// The keys.
     pub keys: &'a [Keyframe],
@@ -126,13 +137,20 @@ pub fn plan(ask: &Ask, loaded: &Loaded) -> Result<Plan> {
         })
     };
     match ask.method {
-        "model" => match loaded.residual {
-            Some(r)
+        "model" => match (loaded.residual, loaded.cond) {
+            (Some(r), _)
                 if r.default_for_whole_pose_keys
                     && ask.post_process
                     && residual_takes(ask.keys, ask.dna) =>
             {
                 chosen(Pipeline::Residual, r.variation)
+            }
+            (_, Some(c))
+                if c.default_for_partial_keys
+                    && ask.post_process
+                    && cond_takes(ask.keys, ask.dna) =>
+            {
+                chosen(Pipeline::Cond, c.variation)
             }
             _ => chosen(Pipeline::Generator, generator()?),
         },
@@ -148,6 +166,17 @@ pub fn plan(ask: &Ask, loaded: &Loaded) -> Result<Plan> {
                 ));
             }
             chosen(Pipeline::Residual, r.variation)
+        }
+        "cond" => {
+            let c = loaded
+                .cond
+                .ok_or_else(|| Error::Invalid("the conditional network is not loaded".into()))?;
+            if ask.dna {
+                return Err(Error::Invalid(
+                    "method cond takes no Motion DNA (it has no DNA input yet; method generator does)".into(),
+                ));
+            }
+            chosen(Pipeline::Cond, c.variation)
         }
         "slerp" => chosen(Pipeline::Slerp, 0.0),
         "zerovel" => chosen(Pipeline::ZeroVelocity, 0.0),
@@ -183,6 +212,7 @@ mod tests {
             variation: 1.0,
             default_for_whole_pose_keys: true,
         }),
+        cond: None,
     };
 
     fn ask<'a>(method: &'a str, keys: &'a [Keyframe]) -> Ask<'a> {
@@ -294,9 +324,66 @@ mod tests {
         let none = Loaded {
             residual: None,
             generator: None,
+            cond: None,
         };
         assert!(plan(&ask("residual", &poses), &none).is_err());
         assert!(plan(&ask("model", &poses), &none).is_err());
         assert!(plan(&ask("slerp", &poses), &none).is_ok());
+    }
+
+    #[test]
+    fn partial_keys_go_to_the_conditional_network_when_its_manifest_says_so() {
+        let with_cond = |default_for_partial_keys| Loaded {
+            cond: Some(CondInfo {
+                variation: 0.9,
+                default_for_partial_keys,
+            }),
+            ..LOADED
+        };
+        let roots = [root(0), root(60)];
+        let p = plan(&ask("model", &roots), &with_cond(true)).unwrap();
+        assert_eq!((p.pipeline, p.variation), (Pipeline::Cond, 0.9));
+        // not its default: the generator; asked for by name: it runs
+        let p = plan(&ask("model", &roots), &with_cond(false)).unwrap();
+        assert_eq!(p.pipeline, Pipeline::Generator);
+        let p = plan(&ask("cond", &roots), &with_cond(false)).unwrap();
+        assert_eq!(p.pipeline, Pipeline::Cond);
+        // whole poses stay with the residual network; DNA, a gap over
+        // MAX_GAP and keys it cannot read go to the generator
+        let poses = [pose(0), pose(60)];
+        let p = plan(&ask("model", &poses), &with_cond(true)).unwrap();
+        assert_eq!(p.pipeline, Pipeline::Residual);
+        let dna = Ask {
+            dna: true,
+            ..ask("model", &roots)
+        };
+        assert_eq!(
+            plan(&dna, &with_cond(true)).unwrap().pipeline,
+            Pipeline::Generator
+        );
+        let far = [root(0), root(MAX_GAP + 1)];
+        assert_eq!(
+            plan(&ask("model", &far), &with_cond(true))
+                .unwrap()
+                .pipeline,
+            Pipeline::Generator
+        );
+        let mut some_joints = root(30);
+        some_joints.mask[3] = true;
+        let odd = [root(0), some_joints];
+        assert_eq!(
+            plan(&ask("model", &odd), &with_cond(true))
+                .unwrap()
+                .pipeline,
+            Pipeline::Generator
+        );
+        // named without it loaded, or with DNA: errors
+        let e = plan(&ask("cond", &roots), &LOADED).unwrap_err().to_string();
+        assert!(e.contains("conditional network is not loaded"), "{e}");
+        let dna = Ask {
+            dna: true,
+            ..ask("cond", &roots)
+        };
+        assert!(plan(&dna, &with_cond(true)).is_err());
     }
 }

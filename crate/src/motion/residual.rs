@@ -19,7 +19,7 @@ use serde::Deserialize;
 
 /// Frames per unit of the network's phase inputs "frames since the previous
 /// key" and "to the next" (one second at 60 fps), as `residual.py` trains it.
-const PHASE_FRAMES: f64 = 60.0;
+pub(super) const PHASE_FRAMES: f64 = 60.0;
 
 #[derive(Deserialize)]
 struct Manifest {
@@ -69,27 +69,27 @@ pub struct ResidualModel {
     pub default_for_whole_pose_keys: bool,
 }
 
-type V3 = [f64; 3];
+pub(super) type V3 = [f64; 3];
 
-fn mul(a: &Mat3<f64>, b: &Mat3<f64>) -> Mat3<f64> {
+pub(super) fn mul(a: &Mat3<f64>, b: &Mat3<f64>) -> Mat3<f64> {
     crate::rotation::mul(a, b)
 }
 
-fn transpose(m: &Mat3<f64>) -> Mat3<f64> {
+pub(super) fn transpose(m: &Mat3<f64>) -> Mat3<f64> {
     std::array::from_fn(|i| std::array::from_fn(|j| m[j][i]))
 }
 
-fn apply(m: &Mat3<f64>, v: V3) -> V3 {
+pub(super) fn apply(m: &Mat3<f64>, v: V3) -> V3 {
     std::array::from_fn(|i| m[i][0] * v[0] + m[i][1] * v[1] + m[i][2] * v[2])
 }
 
 /// The first two columns, as `train/deeprep_train/motion/residual.py`'s `sixd`.
-fn sixd(m: &Mat3<f64>) -> [f64; 6] {
+pub(super) fn sixd(m: &Mat3<f64>) -> [f64; 6] {
     [m[0][0], m[1][0], m[2][0], m[0][1], m[1][1], m[2][1]]
 }
 
 /// Gram-Schmidt back to a rotation (columns b1, b2, b1 × b2).
-fn from_sixd(r: &[f64; 6]) -> Option<Mat3<f64>> {
+pub(super) fn from_sixd(r: &[f64; 6]) -> Option<Mat3<f64>> {
     let norm = |v: V3| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
     let (a1, a2) = ([r[0], r[1], r[2]], [r[3], r[4], r[5]]);
     let n1 = norm(a1);
@@ -113,7 +113,7 @@ fn from_sixd(r: &[f64; 6]) -> Option<Mat3<f64>> {
 }
 
 /// Rotation by `t` radians about y, as `train/deeprep_train/motion/residual.py`'s `rot_y`.
-fn rot_y(t: f64) -> Mat3<f64> {
+pub(super) fn rot_y(t: f64) -> Mat3<f64> {
     let (s, c) = t.sin_cos();
     [[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]]
 }

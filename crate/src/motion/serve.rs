@@ -2,6 +2,7 @@
 //! chose: the one execution path behind the CLI and the wasm
 //! `Inbetweener`, so that both run what they planned the same way.
 
+use super::cond::CondModel;
 use super::feet::{lock_feet, FootLock, FootLockStats};
 use super::pipeline::TweenModels;
 use super::plan::{plan, Ask, Loaded, Pipeline, Plan};
@@ -9,13 +10,15 @@ use super::residual::ResidualModel;
 use super::{baseline, Keyframe, Motion};
 use crate::error::{Error, Result};
 
-/// The networks a front-end has loaded (either may be absent).
+/// The networks a front-end has loaded (any may be absent).
 #[derive(Clone, Copy, Default)]
 pub struct Models<'a> {
     /// The generator pipeline.
     pub generator: Option<&'a TweenModels>,
     /// The residual network.
     pub residual: Option<&'a ResidualModel>,
+    /// The conditional network.
+    pub cond: Option<&'a CondModel>,
 }
 
 impl Models<'_> {
@@ -24,6 +27,7 @@ impl Models<'_> {
         Loaded {
             generator: self.generator.map(|g| g.default_variation),
             residual: self.residual.map(|r| r.info()),
+            cond: self.cond.map(|c| c.info()),
         }
     }
 }
@@ -31,7 +35,7 @@ impl Models<'_> {
 /// A request in the form every front-end reads.
 #[derive(Clone, Debug)]
 pub struct Request {
-    /// `model`, `generator`, `residual`, `slerp` or `zerovel`.
+    /// `model`, `generator`, `residual`, `cond`, `slerp` or `zerovel`.
     pub method: String,
     /// The keys.
     pub keys: Vec<Keyframe>,
@@ -104,6 +108,19 @@ pub fn run(models: &Models, p: Plan, req: Request, now_ms: &dyn Fn() -> f64) -> 
             let mut m = r.synthesize(&req.keys, req.frames, p.variation)?;
             let feet = (req.foot_lock && req.post_process)
                 .then(|| lock_feet(&mut m, &r.template, &req.keys, &FootLock::default()));
+            Ok(one_stage(m, feet))
+        }
+        Pipeline::Cond => {
+            let c = models.cond.ok_or_else(|| missing("conditional network"))?;
+            let mut m = c.synthesize(&req.keys, req.frames, p.variation)?;
+            if req.post_process && req.keys.iter().any(super::xy::is_xy_key) {
+                // 2-D keys become rotation keys fitted to the output, then
+                // exact (poses and root positions are exact already)
+                let pinned = super::xy::pin_xy_keys(&m, &c.template, &req.keys);
+                super::post::make_keys_exact(&mut m, &pinned);
+            }
+            let feet = (req.foot_lock && req.post_process)
+                .then(|| lock_feet(&mut m, &c.template, &req.keys, &FootLock::default()));
             Ok(one_stage(m, feet))
         }
         Pipeline::Generator => {

@@ -329,6 +329,9 @@ fn the_cli_runs_what_the_planner_plans() {
             deeprep::motion::residual::info_of_manifest(&read("tween_residual.manifest.json"))
                 .unwrap(),
         ),
+        cond: Some(
+            deeprep::motion::cond::info_of_manifest(&read("tween_cond.manifest.json")).unwrap(),
+        ),
     };
     let tmp = std::env::temp_dir().join(format!("deeprep_cli_plan_{}", std::process::id()));
     std::fs::create_dir_all(&tmp).unwrap();
@@ -389,6 +392,8 @@ fn the_cli_runs_what_the_planner_plans() {
         let want_pipeline =
             if kind == "pose" && loaded.residual.unwrap().default_for_whole_pose_keys {
                 Pipeline::Residual
+            } else if kind != "pose" && loaded.cond.unwrap().default_for_partial_keys {
+                Pipeline::Cond
             } else {
                 Pipeline::Generator
             };
@@ -396,6 +401,7 @@ fn the_cli_runs_what_the_planner_plans() {
         if variation.is_none() {
             let own = match p.pipeline {
                 Pipeline::Residual => loaded.residual.unwrap().variation,
+                Pipeline::Cond => loaded.cond.unwrap().variation,
                 _ => loaded.generator.unwrap(),
             };
             assert_eq!(p.variation, own, "{kind}");

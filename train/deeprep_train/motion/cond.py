@@ -46,6 +46,14 @@ after it.
   train/.venv/bin/python -m deeprep_train.motion.cond train --resume --minutes 150
   train/.venv/bin/python -m deeprep_train.motion.cond eval --kind root --ckpt cache/cond/gen_N.pt
   train/.venv/bin/python -m deeprep_train.motion.cond portable
+  train/.venv/bin/python -m deeprep_train.motion.cond export --ckpt cache/cond/gen_N.pt
+
+`export` writes models/onnx/tween_cond.onnx (float16 weights), its manifest
+(with the prior pose, so the runtime builds the same input) and two
+fixtures: the network's (onnxruntime's output for one input) and
+tween_cond_motion.json (keys of every kind and the motion this module's
+`features` and `apply` make from them with the exported network), which
+crate/src/motion/cond.rs must reproduce.
 """
 import argparse
 import copy
@@ -465,9 +473,126 @@ def portable(args):
     print(f"wrote {to} (step {s['step']}, {os.path.getsize(to) / 1e6:.1f} MB)")
 
 
+# ---------------------------------------------------------------- export
+
+FIXTURE_CASES = [
+    # (frames, keys, kinds): the first key a whole pose (heading removed);
+    # a root path (heading kept); 2-D keys with a pose; a window whose frames
+    # run past its first and last key
+    (41, [0, 20, 40], [P, R, P]),
+    (41, [0, 17, 40], [R, R, R]),
+    (41, [0, 25, 40], [X, P, R]),
+    (47, [4, 22, 40], [R, X, R]),
+]
+
+
+def export(args):
+    """models/onnx/tween_cond.onnx (the moving average of --ckpt), its
+    manifest, the network's parity fixture and the motion fixture."""
+    import onnxruntime as ort
+    from deeprep_train.motion.export import fixture
+    from deeprep_train.export.util import ONNX_DIR, git_commit, write_json
+    from deeprep_train.export.half_weights import convert
+    net, s = load_ema(args.ckpt)
+    prior = s["prior"].float()
+    d = np.load(args.data)
+    skel = Skeleton(d)
+    J, K = len(skel.parents), skel.K
+    cin = net.core.inp.in_channels
+    clips = Clips(d, "train")
+    gen_manifest = json.load(open(os.path.join(ONNX_DIR, "tween_generator.manifest.json")))
+    path = os.path.join(ONNX_DIR, "tween_cond.onnx")
+    noise = torch.zeros(Z)
+
+    def window(case_index, n):
+        a = 200 + 300 * case_index
+        return clips.root[a:a + n], clips.quat[a:a + n]
+
+    n0, keys0, kinds0 = FIXTURE_CASES[2]
+    f = features(skel, prior, *window(2, n0), keys0, kinds0, noise, skel.offsets)
+    x = f[0].unsqueeze(0)
+    torch.onnx.export(net, (x,), path, input_names=["x"], output_names=["residual"], opset_version=17,
+                      dynamic_axes={"x": {2: "frames"}, "residual": {2: "frames"}}, dynamo=False)
+    with torch.no_grad():
+        ref = net(x).numpy()
+    sess = ort.InferenceSession(path, providers=["CPUExecutionProvider"])
+    parity = fixture("tween_cond", sess, {"x": x.numpy()}, ref)
+    prior_m = quat_to_mat(prior)
+    write_json(os.path.join(ONNX_DIR, "tween_cond.manifest.json"), {
+        "name": "tween_cond",
+        "kind": "cond-tween",
+        "description": "one conditional in-betweening network for whole-pose, root-only and 2-D keys "
+                       "(train/deeprep_train/motion/cond.py; issue 47)",
+        "inputs": [{"name": "x", "shape": [1, cin, "frames"],
+                    "channels": "base root / scale (3), base 6D per rotating joint (6K), whole-pose keys' phase (4: "
+                                "s, since / 60, to / 60, gate), whole-pose flag (1), all keys' phase (4), 2-D-or-pose "
+                                "flag (1), their phase (4), each joint's root-relative x, y / scale lerped between them "
+                                "(2J), noise (Z, zero at inference); in the first key's frame (motion/cond.py's "
+                                "docstring)"}],
+        "outputs": [{"name": "residual", "shape": [1, 3 + 6 * K, "frames"]}],
+        "scale": SCALE,
+        "gate_frames": GATE_FRAMES,
+        "phase_frames": PHASE_FRAMES,
+        "noise_channels": Z,
+        "joints": J,
+        "rotating": skel.rotating,
+        "prior": [[float(v) for v in m.reshape(-1)] for m in prior_m],
+        "skeleton_bvh": gen_manifest["skeleton_bvh"],
+        "training": {"steps": int(s["step"]), **net.arch(), "checkpoint": os.path.relpath(args.ckpt, ROOT)},
+        "parity_torch_vs_onnxruntime": parity,
+        "training_data": "CMU train takes at 60 fps with cmu-extra's locomotion clips retargeted onto the model's "
+                         "skeleton (train/deeprep_train/motion/extra.py), mirrored and turned",
+        "training_code_commit": git_commit(),
+        "exporter": {"torch": torch.__version__, "onnxruntime": ort.__version__, "opset": 17},
+        "default_for_partial_keys": bool(args.default_for_partial_keys),
+    })
+    convert("tween_cond")
+    # the motion fixture, from the float16 file as shipped
+    sess = ort.InferenceSession(path, providers=["CPUExecutionProvider"])
+    cases = []
+    for ci, (n, keys, kinds) in enumerate(FIXTURE_CASES):
+        root, quat = window(ci, n)
+        f = features(skel, prior, root, quat, keys, kinds, noise, skel.offsets)
+        xin, g_root, g_rot, base_root, base_rot = [v.unsqueeze(0) for v in f[:5]]
+        res = torch.from_numpy(sess.run(None, {"x": xin.numpy()})[0])
+        # apply() with the exported network's output, then back to the world
+        B, N = 1, n
+        r_root = base_root + res.transpose(1, 2)[..., :3] * SCALE * g_root.unsqueeze(-1)
+        r6 = sixd(base_rot).reshape(B, N, K, 6) + res.transpose(1, 2)[..., 3:].reshape(B, N, K, 6) *             g_rot[..., None, None]
+        rot = from_sixd(r6)[0]
+        k0 = keys[0]
+        if kinds[0] == P and X not in kinds:
+            f0 = quat_to_mat(quat[k0, 0])[:, 2]
+            C = rot_y(-torch.atan2(f0[0], f0[2]))
+        else:
+            C = torch.eye(3)
+        off = torch.stack([root[k0, 0], torch.zeros(()), root[k0, 2]])
+        w_root = r_root[0] @ C + off
+        rot[:, 0] = C.T @ rot[:, 0]
+        gpos = fk(skel, root[None], quat_to_mat(quat)[None], skel.offsets[None])[0]
+        key_rows = []
+        for k, c in zip(keys, kinds):
+            rel = gpos[k] - gpos[k, :1]
+            key_rows.append({"frame": k, "kind": ["pose", "root", "xy"][c],
+                             "root": [float(v) for v in root[k]],
+                             "positions": [float(v) for v in rel.reshape(-1)],
+                             "rotations": [[float(v) for v in m.reshape(-1)] for m in quat_to_mat(quat[k])]})
+        cases.append({"frames": n, "keys": key_rows,
+                      "root": [[round(float(v), 5) for v in r] for r in w_root],
+                      "sixd": [[round(float(v), 6) for v in sixd(m).reshape(-1)] for m in rot]})
+    write_json(os.path.join(ONNX_DIR, "fixtures", "tween_cond_motion.json"), {
+        "model": "tween_cond.onnx",
+        "about": "keys (root: global; positions: joint positions relative to the root, world axes, every joint; "
+                 "rotations: local rotation matrices of the rotating joints, row-major) and the motion "
+                 "motion/cond.py makes from them with tween_cond.onnx (onnxruntime): root positions and the "
+                 "rotating joints' 6D (first two columns of each matrix)",
+        "cases": cases})
+    print(f"exported {path} (step {s['step']}), parity {parity:.2e}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("cmd", choices=["train", "eval", "portable"])
+    ap.add_argument("cmd", choices=["train", "eval", "portable", "export"])
     ap.add_argument("--data", default=os.path.join(CACHE, "resid60.npz"))
     ap.add_argument("--out", default=OUT)
     ap.add_argument("--init", help="train: the whole-pose checkpoint this network starts from")
@@ -494,8 +619,11 @@ def main():
     ap.add_argument("--ckpt")
     ap.add_argument("--gaps", type=lambda s: [int(x) for x in s.split(",")], default=[60, 120, 300])
     ap.add_argument("--json")
+    ap.add_argument("--default-for-partial-keys", type=int, default=0,
+                    help="export: 1 makes the manifest name this network the `model` method's for root-only and "
+                         "2-D keys (only after it beat the generator by the rule in train/notes/cond.md)")
     args = ap.parse_args()
-    {"train": train, "eval": evaluate, "portable": portable}[args.cmd](args)
+    {"train": train, "eval": evaluate, "portable": portable, "export": export}[args.cmd](args)
 
 
 if __name__ == "__main__":

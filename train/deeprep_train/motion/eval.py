@@ -69,6 +69,10 @@ FIXED_ARGS = {
     # position alone (Sec. 5.4.1), or every joint's x and y plus the root (Sec. 5.4.2)
     "keys-root": ["--method", "model", "--key-kind", "root"],
     "keys-xy": ["--method", "model", "--key-kind", "xy"],
+    # the conditional network (issue 47) on the same keys, named explicitly
+    "cond-root": ["--method", "cond", "--key-kind", "root"],
+    "cond-xy": ["--method", "cond", "--key-kind", "xy"],
+    "cond-pose": ["--method", "cond", "--key-kind", "pose"],
 }
 
 

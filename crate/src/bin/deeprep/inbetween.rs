@@ -142,9 +142,14 @@ fn loaded(o: &Opts) -> Result<deeprep::motion::plan::Loaded, String> {
         }
         None => None,
     };
+    let cond = match read("tween_cond.manifest.json")? {
+        Some(t) => Some(deeprep::motion::cond::info_of_manifest(&t).map_err(|e| e.to_string())?),
+        None => None,
+    };
     Ok(deeprep::motion::plan::Loaded {
         generator,
         residual,
+        cond,
     })
 }
 
@@ -158,7 +163,7 @@ fn synthesize(
 ) -> Result<(deeprep::motion::Motion, String), String> {
     use deeprep::motion::plan::Pipeline;
     use deeprep::motion::serve::{run, Models, Request};
-    use deeprep::motion::{pipeline::TweenModels, residual::ResidualModel};
+    use deeprep::motion::{cond::CondModel, pipeline::TweenModels, residual::ResidualModel};
     let req = Request {
         method: o.method.clone(),
         keys: keys.to_vec(),
@@ -181,9 +186,14 @@ fn synthesize(
         ),
         _ => (None, None),
     };
+    let cond = match plan.pipeline {
+        Pipeline::Cond => Some(CondModel::load_dir(dir).map_err(|e| e.to_string())?),
+        _ => None,
+    };
     let models = Models {
         generator: generator.as_ref(),
         residual: residual.as_ref(),
+        cond: cond.as_ref(),
     };
     let start = std::time::Instant::now();
     let clock = move || start.elapsed().as_secs_f64() * 1000.0;
@@ -277,7 +287,7 @@ fn dna_poses(
 
 /// Whether `--method` runs a network (which reads the model's skeleton only).
 fn uses_network(method: &str) -> bool {
-    matches!(method, "model" | "generator" | "residual")
+    matches!(method, "model" | "generator" | "residual" | "cond")
 }
 
 /// The networks' skeleton (the generator's manifest; the residual

@@ -33,16 +33,19 @@ const USAGE: &str = "usage:
       aligned per bone: T-pose or A-pose), the root path scaled by leg length, unmapped joints
       at rest; MAP.json ({\"leftShin\": \"L_Knee\", ...}) replaces roles found in SRC by name
   deeprep inbetween --from-bvh CLIP.bvh --keys F1,F2,... -o OUT.bvh
-          [--method model|generator|residual|slerp|zerovel] [--models DIR] [--no-post] [--foot-lock] [--variation V]
+          [--method model|generator|residual|cond|slerp|zerovel] [--models DIR] [--no-post] [--foot-lock] [--variation V]
           [--dna F1,F2,...|DNA.bvh [--seed S]] [--key-kind pose|root|xy]
       keys from those frames of CLIP (--key-kind: whole poses, the default; the root's
       position only; or every joint's global x and y with the root); OUT has CLIP's length, frame rate and
       skeleton; frames between the first and last key are synthesized, the others copied
       --method residual: the supervised residual on SLERP+LERP (models/onnx/tween_residual.onnx;
       --variation scales its correction; default: its manifest's); --method generator: the
-      Generative Tweening generator and path predictor (any key kind, DNA); --method model (the
-      default): the residual network where its manifest makes it the default and every key is
-      a whole pose without --dna or --no-post, the generator otherwise
+      Generative Tweening generator and path predictor (any key kind, DNA); --method cond: the
+      conditional network (models/onnx/tween_cond.onnx: whole-pose, root-only and 2-D keys, no
+      DNA); --method model (the default): the residual network where its manifest makes it the
+      default and every key is a whole pose without --dna or --no-post, else the conditional
+      network where its manifest makes it the default for partial keys and it takes them, the
+      generator otherwise
   deeprep inbetween --from-bvh CLIP.bvh --fill S-E [--fill S-E ...] [--context B[,A]] -o OUT.bvh
           [--method model|residual|generator|hermite|slerp|zerovel] [--models DIR]
       gaps in captured motion filled: frames S to E (inclusive) of CLIP synthesized from the

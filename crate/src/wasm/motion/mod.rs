@@ -15,6 +15,7 @@ mod clips;
 pub struct Inbetweener {
     inner: crate::motion::pipeline::TweenModels,
     residual: Option<crate::motion::residual::ResidualModel>,
+    cond: Option<crate::motion::cond::CondModel>,
 }
 
 /// One synthesized motion.
@@ -212,6 +213,7 @@ impl Inbetweener {
             inner: crate::motion::pipeline::TweenModels::new(generator, path, manifest)
                 .map_err(js_err)?,
             residual: None,
+            cond: None,
         })
     }
 
@@ -224,6 +226,9 @@ impl Inbetweener {
         self.inner.prepare_any_length().map_err(js_err)?;
         if let Some(r) = &self.residual {
             r.prepare_any_length().map_err(js_err)?;
+        }
+        if let Some(c) = &self.cond {
+            c.prepare_any_length().map_err(js_err)?;
         }
         Ok(())
     }
@@ -346,6 +351,24 @@ impl Inbetweener {
         self.residual
             .as_ref()
             .is_some_and(|r| r.default_for_whole_pose_keys)
+    }
+
+    /// Adds the conditional network (the bytes of `tween_cond.onnx` and its
+    /// manifest's text), which method `cond` runs, and `model` for root-only
+    /// and 2-D keys when its manifest makes it the default for them.
+    #[wasm_bindgen(js_name = setCond)]
+    pub fn set_cond(&mut self, onnx: &[u8], manifest: &str) -> Result<(), JsError> {
+        let m = crate::motion::cond::CondModel::new(onnx, manifest).map_err(js_err)?;
+        crate::motion::clip::check_skeleton(&m.template, &self.inner.template).map_err(js_err)?;
+        m.prepare_any_length().map_err(js_err)?;
+        self.cond = Some(m);
+        Ok(())
+    }
+
+    /// Whether [`Inbetweener::set_cond`] has loaded the conditional network.
+    #[wasm_bindgen(getter, js_name = hasCond)]
+    pub fn has_cond(&self) -> bool {
+        self.cond.is_some()
     }
 
     /// Whether [`Inbetweener::set_residual`] has loaded the residual network.
@@ -487,6 +510,7 @@ impl Inbetweener {
         crate::motion::serve::Models {
             generator: Some(&self.inner),
             residual: self.residual.as_ref(),
+            cond: self.cond.as_ref(),
         }
     }
 
