@@ -3,11 +3,12 @@ export interface Progress { id: number; stage: string; fraction: number }
 /** A synthesized motion. */
 export interface SynthesisResult {
   /** The method the request asked for. */
-  method: 'model' | 'residual' | 'slerp';
+  method: 'model' | 'residual' | 'cond' | 'slerp';
   /** The pipeline that made the motion, as the core's planner (motion::plan) chose it, the same
    *  for the CLI: 'model' runs the residual network where its manifest makes it the default and
-   *  the keys are whole poses without DNA, else the generator. */
-  ran: 'residual' | 'generator' | 'slerp' | 'zerovel';
+   *  the keys are whole poses without DNA, else the conditional network where its manifest makes
+   *  it the default for partial keys and it reads them, else the generator. */
+  ran: 'residual' | 'cond' | 'generator' | 'slerp' | 'zerovel';
   /** The variation it ran at: the request's, else the chosen pipeline's own default (0 for SLERP+LERP). */
   variation: number;
   /** BVH text, 60 fps, the model's skeleton; empty when the request said `bvh: false`. */
@@ -41,7 +42,7 @@ export interface XyKey { frame: number; xy: ([number, number] | null)[]; root: [
 export type Key = PoseKey | RootKey | XyKey;
 export interface SynthesisRequest {
   /** Keys of any kind, sorted by frame, unique, each < frames, at most 3,000 apart (over 600: hierarchical)
-   *  (instead of keyFrames + keyChannels). Root-only and 2-D keys need method 'model'. */
+   *  (instead of keyFrames + keyChannels). Root-only and 2-D keys need method 'model' or 'cond'. */
   keys?: Key[];
   /** Sorted, unique key frames, each < frames, at most 3,000 apart (whole poses; over 600: hierarchical). */
   keyFrames?: number[];
@@ -54,13 +55,17 @@ export interface SynthesisRequest {
   footLock?: boolean;
   /** Motion DNA poses as channel rows (may be empty); with `keys`, a list of rows. */
   dna?: number[] | Float32Array | number[][];
-  /** 'residual': the supervised residual network (variation scales its correction; no DNA, post or foot locking). */
-  method?: 'model' | 'residual' | 'slerp';
+  /** 'residual': the supervised residual network (variation scales its correction; no DNA, post or foot locking).
+   *  'cond': the conditional network (whole poses, root positions and 2-D keys of every joint; no DNA). */
+  method?: 'model' | 'residual' | 'cond' | 'slerp';
   /** Share of the networks' departure from SLERP+LERP kept, in the pose and the
    *  root path, in [0, 2] (1: the networks as trained; 0: SLERP+LERP).
    *  Default: the pipeline's own (the result's `variation` says which ran; for whole-pose keys
    *  `DeeprepClient.defaultVariation`). */
   variation?: number;
+  /** Method 'cond' with `keys`: the seed of its noise input (a non-negative integer; absent: zero
+   *  noise). Another seed, another motion through the same keys. */
+  seed?: number;
   /** false: the result's `bvh` is empty, its text not written (tens of ms at 2,048 frames;
    *  the tracks and positions are there either way). Default true. */
   bvh?: boolean;
@@ -123,6 +128,8 @@ export class DeeprepClient {
   readonly hasModel: boolean;
   /** Whether method 'residual' (the supervised residual network on SLERP+LERP) is available. */
   readonly hasResidual: boolean;
+  /** Whether method `'cond'` (the conditional network for whole-pose, root-only and 2-D keys) is available. */
+  readonly hasCond: boolean;
   /** The variation a request without one gets: the model manifest's (chosen on training takes). */
   readonly defaultVariation?: number;
   readonly modelError?: string;

@@ -110,6 +110,7 @@ export class DeeprepClient {
     c.skeleton = info.skeleton; // { names, parents (-1: root), offsets (joints x 3) }
     c.hasModel = info.hasModel;
     c.hasResidual = info.hasResidual; // method 'residual' (the supervised residual network) is available
+    c.hasCond = info.hasCond; // method 'cond' (the conditional network: whole-pose, root-only, 2-D keys) is available
     c.defaultVariation = info.defaultVariation;
     c.modelError = info.modelError;
     c.wasm = info.wasm; // the wasm build the worker runs: 'relaxed-simd' or 'simd128'

@@ -48,6 +48,7 @@ let model = null;
 let ik = null;
 let skeletonNames = null;
 let residualManifest = null;
+let condManifest = null;
 
 /** An Error with a deeprep error code (see client.js). */
 function coded(code, message) {
@@ -66,6 +67,7 @@ function modelUrls(base) {
     const at = (f) => `${base.replace(/\/$/, '')}/${f}`;
     return { generator: at('tween_generator.onnx'), path: at('tween_path.onnx'), manifest: at('tween_generator.manifest.json'),
              residual: at('tween_residual.onnx'), residualManifest: at('tween_residual.manifest.json'),
+             cond: at('tween_cond.onnx'), condManifest: at('tween_cond.manifest.json'),
              ik: at('ik.onnx'), ikManifest: at('ik.manifest.json') };
   }
   return {
@@ -74,6 +76,8 @@ function modelUrls(base) {
     manifest: new URL('./models/tween_generator.manifest.json', import.meta.url).href,
     residual: new URL('./models/tween_residual.onnx', import.meta.url).href,
     residualManifest: new URL('./models/tween_residual.manifest.json', import.meta.url).href,
+    cond: new URL('./models/tween_cond.onnx', import.meta.url).href,
+    condManifest: new URL('./models/tween_cond.manifest.json', import.meta.url).href,
     ik: new URL('./models/ik.onnx', import.meta.url).href,
     ikManifest: new URL('./models/ik.manifest.json', import.meta.url).href,
   };
@@ -140,6 +144,17 @@ async function handleInit(msg) {
         model.setResidual(await fetchBytes(urls.residual), residualManifest);
       }
     }
+    // The conditional network (issue 47: whole-pose, root-only and 2-D keys)
+    // likewise: now when its manifest makes it the model for partial keys,
+    // else on the first request that names method 'cond'.
+    if (msg.models?.cond) {
+      model.setCond(new Uint8Array(msg.models.cond), msg.models.condManifest);
+    } else {
+      condManifest = await fetchText(urls.condManifest).catch(() => null);
+      let isDefault = false;
+      try { isDefault = JSON.parse(condManifest)?.default_for_partial_keys === true; } catch { /* no manifest */ }
+      if (isDefault) model.setCond(await fetchBytes(urls.cond), condManifest);
+    }
     // One plan for any length now, so the first synthesis of each length
     // does not wait for tract to optimize one (runtime::Model::prepare_any_shape),
     // then the code a request runs, so that the user's first is not the one
@@ -155,6 +170,7 @@ async function handleInit(msg) {
     skel.free();
     postMessage({ type: 'result', id: msg.id, skeletonBvh: model.skeletonBvh, skeleton, hasModel: true,
                   hasResidual: model.hasResidual || residualManifest !== null,
+                  hasCond: model.hasCond || condManifest !== null,
                   defaultVariation: model.defaultVariation, wasm: wasmBuild });
     warmWhenIdle(WARM_UP_ROUNDS.whenIdle);
   } catch (e) {
@@ -315,6 +331,10 @@ onmessage = async (e) => {
     if (msg.type === 'synthesize' && msg.method === 'residual' && model && !model.hasResidual && residualManifest) {
       postMessage({ type: 'progress', id: msg.id, stage: 'loading the residual network', fraction: 0.05 });
       model.setResidual(await fetchBytes(urls.residual), residualManifest);
+    }
+    if ((msg.type === 'synthesize' || msg.type === 'synthesizeFromBvh') && msg.method === 'cond' && model && !model.hasCond && condManifest) {
+      postMessage({ type: 'progress', id: msg.id, stage: 'loading the conditional network', fraction: 0.05 });
+      model.setCond(await fetchBytes(urls.cond), condManifest);
     }
     if (msg.type === 'init') await handleInit(msg);
     else if (msg.type === 'ik') await handleIk(msg);

@@ -27,6 +27,11 @@
 // run (train/README.md's bundle rules).
 // `fill_60_frames_in_512`: Inbetweener.fillGaps on a 60-frame gap of a 512-frame clip
 // (the default method and the Hermite curve), best of reps after a first call.
+// `partial_keys`: root-only keys at the same frames (each pose key's root
+// position), by the conditional network (`cond`, issue 47: at most 150 ms at
+// 2,048 frames) and by the generator pipeline (`generator`, what `model` runs
+// for them while the conditional network is not the default), side by side in
+// the same reps through synthesizeRequest, as the npm worker sends them.
 // Prints JSON. Usage: node tests/web/bench_page.mjs [--smoke] [--candidate FILE]
 import { withBenchPage } from './chromium.mjs';
 
@@ -53,10 +58,11 @@ await withBenchPage(async (page) => {
     const get = async (u) => new Uint8Array(await (await fetchOk(u)).arrayBuffer());
     const text = async (u) => (await fetchOk(u)).text();
     // every file once; each Inbetweener copies what it is given
-    const [gen, path, genManifest, residual, residualManifest] = await Promise.all([
+    const [gen, path, genManifest, residual, residualManifest, cond, condManifest] = await Promise.all([
       get('../models/onnx/tween_generator.onnx'), get('../models/onnx/tween_path.onnx'),
       text('../models/onnx/tween_generator.manifest.json'), get('../models/onnx/tween_residual.onnx'),
-      text('../models/onnx/tween_residual.manifest.json')]);
+      text('../models/onnx/tween_residual.manifest.json'), get('../models/onnx/tween_cond.onnx'),
+      text('../models/onnx/tween_cond.manifest.json')]);
     // an Inbetweener of the glue `mod`, with the residual network `res` when given
     const inbetweener = (mod, res) => {
       const ib = new mod.Inbetweener(gen, path, genManifest);
@@ -70,6 +76,7 @@ await withBenchPage(async (page) => {
     // the default for whole-pose keys: the residual network (as the npm worker loads it)
     const withResidual = inbetweener(m, residual);
     const residualDefault = withResidual.residualIsDefault;
+    withResidual.setCond(cond, condManifest);
     const plainResidual = inbetweener(plain, residual);
     const cand = candidate ? inbetweener(m, await get(`../${candidate}`).catch((e) => {
       throw new Error(`--candidate ${e.message}`);
@@ -146,6 +153,24 @@ await withBenchPage(async (page) => {
           candBest = Math.min(candBest, performance.now() - t);
         }
       }
+      // root-only keys: the conditional network and the generator pipeline, alternately
+      const rootKeys = frames.map((f, i) => ({ frame: f, root: Array.from(kc.subarray(i * (kc.length / frames.length), i * (kc.length / frames.length) + 3)) }));
+      const partial = {};
+      for (const method of ['cond', 'generator']) {
+        const req = JSON.stringify({ frames: n, keys: rootKeys, method });
+        t = performance.now();
+        const r = withResidual.synthesizeRequest(req);
+        partial[method] = { first_call_ms: performance.now() - t, ran: r.method, total_ms: Infinity };
+        r.free();
+      }
+      for (let r = 0; r < reps; r++) {
+        for (const method of ['cond', 'generator']) {
+          const req = JSON.stringify({ frames: n, keys: rootKeys, method });
+          t = performance.now();
+          withResidual.synthesizeRequest(req).free();
+          partial[method].total_ms = Math.min(partial[method].total_ms, performance.now() - t);
+        }
+      }
       t = performance.now();
       const slerpResult = model.interpolate(kf, kc, n);
       if (!slerpResult.bvh.startsWith('HIERARCHY')) throw new Error('no BVH text');
@@ -158,7 +183,7 @@ await withBenchPage(async (page) => {
                  generator_pipeline: { generator_ms: best[0], rcfk_ms: best[1], path_ms: best[2], post_ms: best[3],
                                        total_ms: bestTotal, first_call_ms: first,
                                        any_length_first_call_ms: anyFirst, any_length_total_ms: anyBest },
-                 slerp_lerp_ms_with_bvh_and_fk: slerp,
+                 slerp_lerp_ms_with_bvh_and_fk: slerp, partial_keys: partial,
                  ...(cand ? { candidate_total_ms: candBest, candidate_ran: candRan } : {}) });
     }
     // a 60-frame gap filled in a 512-frame clip (issue 50: under 20 ms), with the default

@@ -317,6 +317,47 @@ test('sketch page: a root path drawn on the ground (root-only keys, Sec. 5.4.1)'
   // residual network's that the slider showed after the whole-pose synthesis
   assertPlanned(await ran(page), 'generator');
   assert.ok(Math.abs(Number(await page.inputValue('#variation')) - planned.generator) < 1e-6);
+  // Issue 47: the same path by the conditional network. Its limbs move: the
+  // mean joint speed relative to the root over frames 0-180 is at least half
+  // the captured validation takes' (docs/inbetween_control.json, motion/eval.py)
+  // and well above the generator's (which slides a nearly frozen body).
+  const speed = () => page.evaluate(() => {
+    const s = window.deeprepState, J = s.skeleton.names.length, p = s.result.positions;
+    let sum = 0, n = 0;
+    for (let t = 1; t <= 180; t++) {
+      for (let j = 1; j < J; j++) {
+        const d = (f, c) => p[(f * J + j) * 3 + c] - p[f * J * 3 + c];
+        sum += Math.hypot(d(t, 0) - d(t - 1, 0), d(t, 1) - d(t - 1, 1), d(t, 2) - d(t - 1, 2));
+        n++;
+      }
+    }
+    return sum / n;
+  });
+  const generatorSpeed = await speed();
+  await page.selectOption('#method', 'cond');
+  await page.evaluate(() => { delete document.body.dataset.synthesized; });
+  await page.click('#synth');
+  await page.waitForSelector('body[data-synthesized="300"]', { timeout: 120_000 });
+  assert.equal((await ran(page)).pipeline, 'cond');
+  assert.equal(await page.textContent('#method-badge'), 'conditional network');
+  const condSpeed = await speed();
+  const truth = JSON.parse(fs.readFileSync(path.join(ROOT, 'docs/inbetween_control.json'), 'utf8'))['slerp@60'].truth_speed;
+  assert.ok(condSpeed >= 0.5 * truth && condSpeed > 3 * generatorSpeed,
+    `joint speed: conditional network ${condSpeed.toFixed(3)}, generator ${generatorSpeed.toFixed(3)}, captured ${truth.toFixed(3)} units/frame`);
+  // its root still passes through the clicked points
+  const worstCond = await page.evaluate(() => {
+    const s = window.deeprepState, J = s.skeleton.names.length;
+    return Math.max(...s.keys.filter((x) => x.root).map((k) => {
+      const p = s.result.positions.subarray(k.frame * J * 3, k.frame * J * 3 + 3);
+      return Math.hypot(p[0] - k.root[0], p[1] - k.root[1], p[2] - k.root[2]);
+    }));
+  });
+  assert.ok(worstCond < 1e-2, `the conditional network's root misses a path key by ${worstCond}`);
+  // the next seed is another noise draw: another motion through the same path
+  await page.click('#compare-seeds');
+  await page.waitForSelector('body[data-compared="2"]', { timeout: 120_000 });
+  const ghost = await page.evaluate(() => window.deeprepState.ghost.meanDistance);
+  assert.ok(ghost > 0, `seeds 1 and 2 gave the same motion (${ghost})`);
   assert.deepEqual(errors, []);
   await page.close();
 });

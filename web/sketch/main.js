@@ -28,6 +28,7 @@ async function main() {
   });
   if (!state.client.hasModel) throw new Error(`models unavailable (${state.client.modelError})`);
   if (!state.client.hasResidual) $('method').querySelector('option[value="residual"]')?.remove();
+  if (!state.client.hasCond) $('method').querySelector('option[value="cond"]')?.remove();
   state.skeleton = loadSkeleton(state.client.skeletonBvh);
   $('variation').value = String(state.client.defaultVariation);
   $('variation-value').textContent = state.client.defaultVariation.toFixed(2);

@@ -28,7 +28,7 @@ export function dnaChannels(seed = Number($('seed').value), { fallbackToPool = f
   return Array.from(dnaFramesOfPool(state.library.length, state.length, seed)).flatMap((i) => state.library[i].channels);
 }
 
-const METHOD_NAMES = { slerp: 'SLERP+LERP interpolation baseline', residual: 'supervised residual network' };
+const METHOD_NAMES = { slerp: 'SLERP+LERP interpolation baseline', residual: 'supervised residual network', cond: 'conditional network' };
 
 /** The page's request for `keys` with `dna` (flat channels), in the form the worker takes. */
 function request(keys, length, method, dna) {
@@ -37,6 +37,8 @@ function request(keys, length, method, dna) {
     ...(state.variationTouched ? { variation: Number($('variation').value) } : {}) };
   const asRequest = (k) => (k.xy ? { frame: k.frame, xy: k.xy, root: k.root }
     : k.root ? { frame: k.frame, root: k.root } : { frame: k.frame, channels: k.channels });
+  // the conditional network: the request form, the page's seed as its noise draw, no DNA
+  if (method === 'cond') return { ...common, keys: keys.map(asRequest), seed: Number($('seed').value) || 0 };
   return keys.some((k) => k.root || k.xy)
     // keys of every kind in the request form (motion::keys), DNA as rows
     ? { ...common, keys: keys.map(asRequest), dna: chunk(dna, state.skeleton.channels) }
@@ -50,11 +52,15 @@ function request(keys, length, method, dna) {
  * following the frame), and the mean joint distance between the two.
  */
 export async function compareSeeds() {
-  if (!state.result || state.result.method !== 'model') { setStatus('synthesize with the Generative Tweening model first', true); return; }
+  const m = state.result?.method;
+  if (m !== 'model' && m !== 'cond') { setStatus('synthesize with the Generative Tweening model or the conditional network first', true); return; }
   const seed = Number($('seed').value) + 1;
   try {
     const keys = state.keys.filter((k) => k.frame < state.result.frames);
-    const run = (s) => state.client.synthesize({ ...request(keys, state.result.frames, 'model', dnaChannels(s, { fallbackToPool: true })), bvh: false });
+    // the conditional network draws its noise from the seed; the generator its Motion DNA
+    const run = (s) => state.client.synthesize({
+      ...(m === 'cond' ? { ...request(keys, state.result.frames, 'cond', []), seed: s }
+        : request(keys, state.result.frames, 'model', dnaChannels(s, { fallbackToPool: true }))), bvh: false });
     const [first, r] = [await run(seed - 1), await run(seed)];
     const a = first.positions, b = r.positions;
     let d = 0;
@@ -62,7 +68,7 @@ export async function compareSeeds() {
     const mean = d / (a.length / 3);
     state.ghost = { positions: r.positions, frames: r.frames, seed, meanDistance: mean };
     $('seed-note').textContent = `seed ${seed} overlaid (pink): mean joint distance to seed ${seed - 1}'s motion ${mean.toFixed(2)} units`
-      + (mean < 1 ? ' — the bundled generator barely uses its DNA (README: Motion DNA measured)' : '');
+      + (mean < 1 ? (m === 'cond' ? ' — the bundled conditional network barely uses its noise (README)' : ' — the bundled generator barely uses its DNA (README: Motion DNA measured)') : '');
     document.body.dataset.compared = String(seed);
     draw();
   } catch (e) {
@@ -78,8 +84,8 @@ export async function synthesize() {
   const keys = state.keys.filter((k) => k.frame < length);
   if (!keys.length) { setStatus('add at least one keyframe first', true); return; }
   const partial = keys.some((k) => k.root || k.xy);
-  if (partial && (!state.client.hasModel || $('method').value !== 'model')) {
-    setStatus('root-path and 2-D keys need the Generative Tweening model (interpolation needs whole poses)', true);
+  if (partial && (!state.client.hasModel || !['model', 'cond'].includes($('method').value))) {
+    setStatus('root-path and 2-D keys need the Generative Tweening model or the conditional network (interpolation needs whole poses)', true);
     return;
   }
   const method = state.client.hasModel ? $('method').value : 'slerp';

@@ -263,7 +263,16 @@ impl CondModel {
     /// `frames` frames. Poses and root positions are exact; 2-D keys are
     /// exact after [`super::xy::pin_xy_keys`] and
     /// [`super::post::make_keys_exact`], which [`super::serve`] runs.
-    pub fn synthesize(&self, keys: &[Keyframe], frames: usize, variation: f32) -> Result<Motion> {
+    ///
+    /// `seed` draws the network's noise input (standard normal, constant
+    /// over the request); `None` gives zero noise, the seedless output.
+    pub fn synthesize(
+        &self,
+        keys: &[Keyframe],
+        frames: usize,
+        variation: f32,
+        seed: Option<u64>,
+    ) -> Result<Motion> {
         super::check_variation(variation)?;
         let joints = self.template.joints.len();
         super::validate_keys(keys, frames, joints)?;
@@ -371,6 +380,14 @@ impl CondModel {
         let flag_x = if xk.is_empty() { 0.0 } else { 1.0 };
         let o_ph = 3 + 6 * k;
         let o_xy = o_ph + 4 + 1 + 4 + 1 + 4;
+        let o_z = o_xy + 2 * j;
+        let noise: Vec<f64> = match seed {
+            Some(s) => {
+                let mut rng = crate::rng::Rng::new(s);
+                (0..self.noise).map(|_| rng.normal()).collect()
+            }
+            None => vec![0.0; self.noise],
+        };
         for t in 0..n {
             for i in 0..3 {
                 put(i, t, base_root[t][i] / self.scale);
@@ -387,6 +404,9 @@ impl CondModel {
             }
             put(o_ph + 4, t, flag_p);
             put(o_ph + 9, t, flag_x);
+            for (q, z) in noise.iter().enumerate() {
+                put(o_z + q, t, *z);
+            }
             if !xk.is_empty() {
                 let (a, b) = ph_x.ab[t];
                 let s = ph_x.ph[t][0];

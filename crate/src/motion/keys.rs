@@ -231,10 +231,12 @@ fn key(i: usize, frame: usize, k: &serde_json::Value, template: &Bvh) -> Result<
 
 /// A whole in-betweening request as JSON, the form the JS API sends:
 /// a keys file (`"frames"`, `"keys"` of any kind) plus
-/// `"method"` (`"model"`, the default; `"residual"`; `"slerp"`),
+/// `"method"` (`"model"`, the default, or another of
+/// [`plan::METHODS`](super::plan::METHODS)),
 /// `"post"` (make keys exact; default true), `"footLock"` (default false),
-/// `"variation"` (default: the model's) and `"dna"` (Motion DNA poses as
-/// channel rows of the skeleton; default: the whole-pose keys).
+/// `"variation"` (default: the model's), `"dna"` (Motion DNA poses as
+/// channel rows of the skeleton; default: the whole-pose keys) and
+/// `"seed"` (the conditional network's noise draw; default: none).
 #[derive(Clone, Debug)]
 pub struct RequestDoc {
     /// The keys and the length.
@@ -249,6 +251,9 @@ pub struct RequestDoc {
     pub variation: Option<f32>,
     /// Motion DNA poses (`dna_pose` form), if given.
     pub dna: Option<Vec<Vec<f32>>>,
+    /// The conditional network's noise draw (`"seed"`, a non-negative
+    /// integer), if given.
+    pub seed: Option<u64>,
 }
 
 /// Reads a [`RequestDoc`] on `template`'s skeleton; every problem is an
@@ -264,12 +269,11 @@ pub fn request_from_json(text: &str, template: &Bvh) -> Result<RequestDoc> {
     };
     let method = match &v["method"] {
         serde_json::Value::Null => "model".to_string(),
-        serde_json::Value::String(s) if ["model", "residual", "slerp"].contains(&s.as_str()) => {
-            s.clone()
-        }
+        serde_json::Value::String(s) if super::plan::METHODS.contains(&s.as_str()) => s.clone(),
         m => {
             return Err(bad(format!(
-                "request: unknown \"method\" {m} (model, residual or slerp)"
+                "request: unknown \"method\" {m} ({})",
+                super::plan::METHODS.join(", ")
             )))
         }
     };
@@ -305,6 +309,15 @@ pub fn request_from_json(text: &str, template: &Bvh) -> Result<RequestDoc> {
             (!poses.is_empty()).then_some(poses)
         }
     };
+    let seed = match &v["seed"] {
+        serde_json::Value::Null => None,
+        serde_json::Value::Number(n) if n.as_u64().is_some() => n.as_u64(),
+        other => {
+            return Err(bad(format!(
+                "request: \"seed\" must be a non-negative integer, found {other}"
+            )))
+        }
+    };
     Ok(RequestDoc {
         file,
         method,
@@ -312,6 +325,7 @@ pub fn request_from_json(text: &str, template: &Bvh) -> Result<RequestDoc> {
         foot_lock: flag("footLock", false)?,
         variation,
         dna,
+        seed,
     })
 }
 

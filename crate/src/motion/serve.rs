@@ -49,6 +49,9 @@ pub struct Request {
     pub variation: Option<f32>,
     /// Pin feet in contact with the floor (only with post-processing).
     pub foot_lock: bool,
+    /// The conditional network's noise draw (`None`: zero noise, its
+    /// seedless output); the other pipelines take none.
+    pub seed: Option<u64>,
 }
 
 impl Request {
@@ -112,7 +115,7 @@ pub fn run(models: &Models, p: Plan, req: Request, now_ms: &dyn Fn() -> f64) -> 
         }
         Pipeline::Cond => {
             let c = models.cond.ok_or_else(|| missing("conditional network"))?;
-            let mut m = c.synthesize(&req.keys, req.frames, p.variation)?;
+            let mut m = c.synthesize(&req.keys, req.frames, p.variation, req.seed)?;
             if req.post_process && req.keys.iter().any(super::xy::is_xy_key) {
                 // 2-D keys become rotation keys fitted to the output, then
                 // exact (poses and root positions are exact already)

@@ -301,14 +301,42 @@ def make_batch(clips, skel, prior, b, n, rng, do_mirror, device):
     return [torch.stack(v).to(device) for v in (xs, gr_, gq_, br, bq, tr, tq, offs)]
 
 
-def losses(net, skel, batch, w):
+def losses(net, skel, batch, w, adv=None, tau=0.1):
+    """The supervised terms (the whole-pose recipe's); with `adv`
+    (residual_adv.Adversary) the LSGAN term on root-relative positions;
+    with w["div"] a diversity-sensitive term (Mao et al. 2019, DSGAN): each
+    window runs again with a second noise draw, and the mean distance
+    between the two outputs' root-relative positions per unit of noise
+    distance, capped at `tau`, is rewarded. The supervised terms see the
+    first draw; the discriminator sees both. Private entries (leading _)
+    carry the positions the discriminator's own step needs."""
     x, g_root, g_rot, base_root, base_rot, gt_root, gt_rot, offs = batch
     root, rot = apply(net, x, g_root, g_rot, base_root, base_rot)
     pos = fk(skel, root, rot, offs) / SCALE
     gpos = fk(skel, gt_root, gt_rot, offs) / SCALE
     out = supervised(skel, root, rot, pos, gt_root, gt_rot, gpos, w)
+    rel = pos - pos[:, :, :1]
+    fakes = [rel]
+    if w.get("div"):
+        B, _, N = x.shape
+        z2 = torch.randn(B, Z, 1, device=x.device)
+        x2 = x.clone()
+        x2[:, -Z:] = z2.expand(-1, -1, N)
+        root2, rot2 = apply(net, x2, g_root, g_rot, base_root, base_rot)
+        pos2 = fk(skel, root2, rot2, offs) / SCALE
+        rel2 = pos2 - pos2[:, :, :1]
+        d_out = (rel - rel2).norm(dim=-1).mean((1, 2))
+        d_z = (x[:, -Z:, 0] - z2[:, :, 0]).abs().mean(1).clamp(min=1e-3)
+        out["div"] = -(d_out / d_z).clamp(max=tau).mean()
+        out["_spread"] = d_out.mean().detach() * SCALE  # units, for the log
+        fakes.append(rel2)
+    private = {}
+    if adv is not None:
+        fake = torch.cat(fakes)
+        out["gan"] = adv.g_loss(fake)
+        private = {"_rel": fake.detach(), "_grel": (gpos - gpos[:, :, :1]).detach()}
     out["total"] = sum(w[k] * v for k, v in out.items() if w.get(k))
-    return out
+    return {**out, **private}
 
 
 def train(args):
@@ -359,22 +387,32 @@ def train(args):
         g["lr"] = args.lr
     print(f"parameters: {sum(p.numel() for p in net.parameters()):,}", flush=True)
     w = {"pos": 1.0, "rot": 0.5, "root": 1.0, "vel": 1.0, "speed": args.speed_weight, "foot": args.foot_weight,
-         "l2p": args.l2p_weight, "spectral": args.spectral_weight}
+         "l2p": args.l2p_weight, "spectral": args.spectral_weight, "gan": args.gan_weight, "div": args.div_weight}
+    adv = None
+    if args.gan_weight > 0:
+        from deeprep_train.motion.residual_adv import Adversary
+        adv = Adversary(J, args.lr_d, dev)
+        if src and adv.load(s):
+            print("resumed the discriminator", flush=True)
+        else:
+            print("a new discriminator", flush=True)
     skel.inv_sd = torch.from_numpy(1.0 / spread(d, skel)).float().to(dev)
     log = open(os.path.join(args.out, "log.jsonl"), "a")
     t0, last, acc = time.time(), time.time(), {}
 
     def save():
         state = {"net": net.state_dict(), "ema": ema.state_dict(), "opt": opt.state_dict(), "step": step,
-                 "prior": prior, **net.arch()}
+                 "prior": prior, **net.arch(), **(adv.state() if adv is not None else {})}
         torch.save(state, ck + ".tmp")
         os.replace(ck + ".tmp", ck)
 
     while time.time() - t0 < args.minutes * 60:
         batch = make_batch(clips, skel, prior, args.batch, args.frames, rng, args.mirror, dev)
-        out = losses(net, skel, batch, w)
+        out = losses(net, skel, batch, w, adv, args.div_tau)
         opt.zero_grad()
         out["total"].backward()
+        if adv is not None:
+            out["D"] = torch.tensor(adv.d_step(out.pop("_grel"), out.pop("_rel")))
         torch.nn.utils.clip_grad_norm_(net.parameters(), 1.0)
         opt.step()
         with torch.no_grad():
@@ -612,6 +650,13 @@ def main():
     ap.add_argument("--foot-weight", type=float, default=2.0)
     ap.add_argument("--l2p-weight", type=float, default=1.0)
     ap.add_argument("--spectral-weight", type=float, default=5.0)
+    ap.add_argument("--gan-weight", type=float, default=0.0,
+                    help="the adversarial stage: LSGAN discriminator on root-relative positions (residual_adv)")
+    ap.add_argument("--lr-d", type=float, default=1e-4)
+    ap.add_argument("--div-weight", type=float, default=0.0,
+                    help="diversity-sensitive term: two noise draws per window kept apart (issue 47, item 2)")
+    ap.add_argument("--div-tau", type=float, default=0.1,
+                    help="cap on the rewarded output distance per unit of noise distance (positions / SCALE)")
     ap.add_argument("--save-every", type=int, default=250)
     ap.add_argument("--snapshot-every", type=int, default=1000)
     ap.add_argument("--split", default="train")

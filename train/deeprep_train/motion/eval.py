@@ -84,6 +84,9 @@ def method_args(m):
     passed as --method."""
     if m in FIXED_ARGS:
         return FIXED_ARGS[m]
+    if m.startswith("cond-") and m.count("-") == 2:  # cond-KIND-V: the conditional network at variation V
+        _, kind, v = m.split("-")
+        return ["--method", "cond", "--key-kind", kind, "--variation", v]
     kind, _, v = m.partition("-")
     if v and kind == "variation":
         return ["--method", "model", "--no-foot-lock", "--variation", v]
@@ -389,6 +392,8 @@ def main(cfg):
             "foot_skate": float(np.mean(a["skate"])),
             "acceleration": float(np.mean(a["accel"])),
             "speed_ratio": float(np.mean(a["speed"]) / max(np.mean(a["gt_speed"]), 1e-12)),
+            # the captured motion's mean joint speed relative to the root (units/frame) on these windows
+            "truth_speed": float(np.mean(a["gt_speed"])),
         }
         if a["key"]:
             res[f"{m}@{g}"]["key_error_before_post"] = np.mean(a["keyraw"], 0).tolist()

@@ -172,6 +172,7 @@ fn synthesize(
         post_process: o.post,
         variation: o.variation,
         foot_lock: o.foot_lock,
+        seed: o.seed.filter(|_| o.dna.is_none()),
     };
     let plan = deeprep::motion::plan::plan(&req.ask(), &loaded(o)?).map_err(|e| e.to_string())?;
     let dir = std::path::Path::new(&o.models);
@@ -242,7 +243,9 @@ fn dna_poses(
     use deeprep::motion::{dna_pose, Keyframe};
     let Some(spec) = &o.dna else {
         return match o.seed {
-            Some(_) => Err("--seed draws Motion DNA from a clip: give --dna DNA.bvh (without DNA the motion is deterministic)".into()),
+            // without DNA, a seed is the conditional network's noise draw
+            Some(_) if o.method == "cond" => Ok(None),
+            Some(_) => Err("--seed draws Motion DNA from a clip: give --dna DNA.bvh (without DNA the motion is deterministic; --method cond takes a seed as its noise draw)".into()),
             None => Ok(None),
         };
     };

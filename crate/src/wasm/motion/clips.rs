@@ -14,7 +14,7 @@ impl Inbetweener {
     /// result back; any frame rate): whole-pose keys from its frames
     /// `keyFrames` (the clip's own numbering), the motion between the first
     /// and last key synthesized at 60 fps (`method`: "model", "generator",
-    /// "residual", "slerp" or "zerovel", planned as for `synthesize` and the
+    /// "residual", "cond", "slerp" or "zerovel", planned as for `synthesize` and the
     /// CLI's `--from-bvh`),
     /// then returned at the clip's frame rate and length, every other frame
     /// and the keys themselves unchanged.

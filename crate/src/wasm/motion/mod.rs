@@ -289,6 +289,7 @@ impl Inbetweener {
             post_process: opts.post,
             variation: opts.variation,
             foot_lock: opts.foot_lock,
+            seed: None,
         })
     }
 
@@ -463,7 +464,7 @@ impl Inbetweener {
     }
 
     /// Runs a whole request given as JSON (`motion::keys::RequestDoc`):
-    /// `{"frames": N, "keys": [...], "method": "model" | "residual" |
+    /// `{"frames": N, "keys": [...], "method": "model" | "residual" | "cond" |
     /// "slerp", "post", "footLock", "variation", "dna"}`, where each key is
     /// a whole pose (`{"frame", "channels"}`), the root's position only
     /// (`{"frame", "root": [x, y, z]}`) or 2-D joints (`{"frame", "xy",
@@ -485,6 +486,7 @@ impl Inbetweener {
             post_process: doc.post,
             variation: doc.variation,
             foot_lock: doc.foot_lock,
+            seed: doc.seed,
         })
     }
 }
@@ -500,6 +502,7 @@ impl Request {
             post_process: true,
             variation: None,
             foot_lock: false,
+            seed: None,
         }
     }
 }
