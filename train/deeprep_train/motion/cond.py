@@ -461,7 +461,8 @@ def evaluate(args):
         keys = [0, g, 2 * g]
         mid = [t for t in range(n) if t not in keys]
         acc = {"mpjpe": [], "key_err": [], "speed": [], "gt_speed": [], "skate": [], "gt_skate": [], "pred": [],
-               "gt": []}
+               "gt": [], "spread": [], "seeded": []}
+        gen = torch.Generator().manual_seed(1234 + g)
         for si in range(len(clips.lens)):
             a0 = int(clips.starts[si])
             for s0 in range(0, int(clips.lens[si]) - n + 1, 2 * g):
@@ -486,11 +487,29 @@ def evaluate(args):
                     acc[k_].append(float((v * low).sum() / max(1, int(low.sum()))))
                 acc["pred"].append(rel[mid].reshape(len(mid), -1).numpy())
                 acc["gt"].append(grel[mid].reshape(len(mid), -1).numpy())
+                if args.seeds > 1:
+                    # the same keys with `seeds` noise draws: mean distance between
+                    # each pair's global joint positions between the keys
+                    outs = []
+                    for _ in range(args.seeds):
+                        z = torch.randn(Z, generator=gen)
+                        xz = x.clone()
+                        xz[:, -Z:] = z[None, :, None]
+                        with torch.no_grad():
+                            r2, q2 = apply(net, xz, g_root, g_rot, base_root, base_rot)
+                        outs.append(fk(skel, r2, q2, offs)[0])
+                    d = [float((outs[i] - outs[j])[mid].norm(dim=-1).mean())
+                         for i in range(len(outs)) for j in range(i + 1, len(outs))]
+                    acc["spread"].append(float(np.mean(d)))
+                    acc["seeded"].append((outs[0] - outs[0][:, :1])[mid].reshape(len(mid), -1).numpy())
         row = {"windows": len(acc["mpjpe"]), "mpjpe": float(np.mean(acc["mpjpe"])),
                "key_err": float(np.mean(acc["key_err"])),
                "speed_ratio": float(np.mean(acc["speed"]) / np.mean(acc["gt_speed"])),
                "skate_ratio": float(np.mean(acc["skate"]) / max(1e-9, np.mean(acc["gt_skate"]))),
                "npss": npss(np.stack(acc["gt"]), np.stack(acc["pred"]))}
+        if args.seeds > 1:
+            row["seed_spread"] = float(np.mean(acc["spread"]))
+            row["npss_seeded"] = npss(np.stack(acc["gt"]), np.stack(acc["seeded"]))
         res[g] = row
         print(args.kind, g, json.dumps(row), flush=True)
     if args.json:
@@ -664,6 +683,9 @@ def main():
     ap.add_argument("--ckpt")
     ap.add_argument("--gaps", type=lambda s: [int(x) for x in s.split(",")], default=[60, 120, 300])
     ap.add_argument("--json")
+    ap.add_argument("--seeds", type=int, default=0,
+                    help="eval: also run each window with this many noise draws: their mean pairwise distance "
+                         "(seed_spread, units) and the first draw's NPSS (npss_seeded)")
     ap.add_argument("--default-for-partial-keys", type=int, default=0,
                     help="export: 1 makes the manifest name this network the `model` method's for root-only and "
                          "2-D keys (only after it beat the generator by the rule in train/notes/cond.md)")
