@@ -18,14 +18,12 @@
 //! `variation` scales the residual: 0 gives the base (a mannequin sliding
 //! along the root path where no pose is keyed), 1 the network as trained.
 
-use super::baseline::slerp_lerp;
-use super::residual::{apply, from_sixd, mul, rot_y, sixd, transpose, V3};
-use super::{Keyframe, Motion};
+use super::Keyframe;
 use crate::error::{Error, Result};
-use crate::rotation::Mat3;
-use crate::runtime::{Model, TensorF32};
-use crate::skeleton::Bvh;
 use serde::Deserialize;
+
+#[cfg(feature = "onnx")]
+pub use model::CondModel;
 
 /// What a key gives, as the network reads it.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -60,16 +58,18 @@ pub fn classify(k: &Keyframe) -> Option<KeyClass> {
 
 /// Whether the conditional network can take `keys`: every key a whole pose,
 /// a root position or a 2-D key of every joint ([`classify`]), no Motion
-/// DNA (it has no DNA input yet), no gap over [`MAX_GAP`](super::MAX_GAP)
+/// DNA (it has no DNA input yet), no gap over [`MAX_GAP`](crate::motion::MAX_GAP)
 /// frames.
 pub fn cond_takes(keys: &[Keyframe], dna: bool) -> bool {
     !dna && !keys.is_empty()
         && keys.iter().all(|k| classify(k).is_some())
         && keys
             .windows(2)
-            .all(|w| w[1].frame.abs_diff(w[0].frame) <= super::MAX_GAP)
+            .all(|w| w[1].frame.abs_diff(w[0].frame) <= crate::motion::MAX_GAP)
 }
 
+// without the runtime only the planner's fields are read
+#[cfg_attr(not(feature = "onnx"), allow(dead_code))]
 #[derive(Deserialize)]
 struct Manifest {
     kind: String,
@@ -104,7 +104,7 @@ pub fn info_of_manifest(json: &str) -> Result<CondInfo> {
     let m: Manifest = serde_json::from_str(json)
         .map_err(|e| Error::Invalid(format!("conditional network manifest: {e}")))?;
     let variation = m.variation.unwrap_or(1.0);
-    super::check_variation(variation)
+    crate::motion::check_variation(variation)
         .map_err(|e| Error::Invalid(format!("conditional network manifest: {e}")))?;
     Ok(CondInfo {
         variation,
@@ -112,350 +112,366 @@ pub fn info_of_manifest(json: &str) -> Result<CondInfo> {
     })
 }
 
-/// The conditional in-betweening network with its skeleton.
-pub struct CondModel {
-    net: Model,
-    /// The skeleton as a BVH with no frames.
-    pub template: Bvh,
-    rotating: Vec<usize>,
-    scale: f64,
-    gate_frames: f64,
-    phase_frames: f64,
-    noise: usize,
-    prior: Vec<Mat3<f64>>,
-    /// The variation a request without one runs at.
-    pub default_variation: f32,
-    /// Whether `method: model` runs it for root-only and 2-D keys.
-    pub default_for_partial_keys: bool,
-}
+/// The network itself (with the runtime).
+#[cfg(feature = "onnx")]
+mod model {
+    use super::{classify, CondInfo, KeyClass, Manifest};
+    use crate::error::{Error, Result};
+    use crate::motion::baseline::slerp_lerp;
+    use crate::motion::residual::{apply, from_sixd, mul, rot_y, sixd, transpose, V3};
+    use crate::motion::{Keyframe, Motion};
+    use crate::rotation::Mat3;
+    use crate::runtime::{Model, TensorF32};
+    use crate::skeleton::Bvh;
 
-/// Per frame of a group of keys: (s, frames since the previous key / P,
-/// to the next / P, gate) and the previous / next key's index in the
-/// group; `cond.py`'s `group_phase`.
-struct Phase {
-    ph: Vec<[f64; 4]>,
-    ab: Vec<(usize, usize)>,
-}
-
-fn group_phase(group: &[usize], n: usize, gate_frames: f64, phase_frames: f64) -> Phase {
-    let mut ph = Vec::with_capacity(n);
-    let mut ab = Vec::with_capacity(n);
-    if group.is_empty() {
-        return Phase {
-            ph: vec![[0.0; 4]; n],
-            ab: vec![(0, 0); n],
-        };
-    }
-    let last = group.len() - 1;
-    for t in 0..n {
-        let (a, b, s) = if t < group[0] {
-            (0, 0, 0.0)
-        } else if t > group[last] {
-            (last, last, 1.0)
-        } else if last == 0 {
-            (0, 0, 0.0)
-        } else {
-            // the segment whose start is the last key at or before t (the
-            // last segment at the last key), as residual.key_phase
-            let seg = (group.partition_point(|&k| k <= t) - 1).min(last - 1);
-            let (fa, fb) = (group[seg], group[seg + 1]);
-            let s = ((t as f64 - fa as f64) / (fb as f64 - fa as f64)).clamp(0.0, 1.0);
-            (seg, seg + 1, s)
-        };
-        let dp = (t as f64 - group[a] as f64).abs();
-        let dn = (group[b] as f64 - t as f64).abs();
-        let gate = 1.0 - (-dp.min(dn) / gate_frames).exp();
-        ph.push([s, dp / phase_frames, dn / phase_frames, gate]);
-        ab.push((a, b));
-    }
-    Phase { ph, ab }
-}
-
-impl CondModel {
-    /// Loads the network (the bytes of `tween_cond.onnx`) and its manifest.
-    pub fn new(onnx: &[u8], manifest_json: &str) -> Result<Self> {
-        let bad = |m: String| Error::Invalid(format!("conditional network manifest: {m}"));
-        let m: Manifest = serde_json::from_str(manifest_json).map_err(|e| bad(e.to_string()))?;
-        if m.kind != "cond-tween" {
-            return Err(bad(format!("kind '{}', expected 'cond-tween'", m.kind)));
-        }
-        let template = Bvh::parse(&m.skeleton_bvh)?;
-        let j = template.joints.len();
-        let with_channels: Vec<usize> = (0..j)
-            .filter(|&i| !template.joints[i].channels.is_empty())
-            .collect();
-        if m.rotating != with_channels || m.rotating.first() != Some(&0) {
-            return Err(bad(
-                "'rotating' must list the skeleton's joints with channels, the root first".into(),
-            ));
-        }
-        if m.joints != j {
-            return Err(bad(format!("{} joints, the skeleton has {j}", m.joints)));
-        }
-        if !(m.scale > 0.0 && m.gate_frames > 0.0 && m.phase_frames > 0.0) {
-            return Err(bad(
-                "scale, gate_frames and phase_frames must be positive".into()
-            ));
-        }
-        if m.noise_channels > 1024 {
-            return Err(bad(format!("{} noise channels", m.noise_channels)));
-        }
-        if m.prior.len() != m.rotating.len()
-            || m.prior
-                .iter()
-                .any(|r| r.len() != 9 || r.iter().any(|v| !v.is_finite()))
-        {
-            return Err(bad(format!(
-                "'prior' must hold {} finite 3 × 3 matrices",
-                m.rotating.len()
-            )));
-        }
-        let default_variation = m.variation.unwrap_or(1.0);
-        super::check_variation(default_variation).map_err(|e| bad(e.to_string()))?;
-        let prior = m
-            .prior
-            .iter()
-            .map(|r| std::array::from_fn(|a| std::array::from_fn(|b| r[3 * a + b])))
-            .collect();
-        Ok(CondModel {
-            net: Model::from_onnx_bytes(onnx)?,
-            template,
-            rotating: m.rotating,
-            scale: m.scale,
-            gate_frames: m.gate_frames,
-            phase_frames: m.phase_frames,
-            noise: m.noise_channels,
-            prior,
-            default_variation,
-            default_for_partial_keys: m.default_for_partial_keys,
-        })
+    /// The conditional in-betweening network with its skeleton.
+    pub struct CondModel {
+        net: Model,
+        /// The skeleton as a BVH with no frames.
+        pub template: Bvh,
+        rotating: Vec<usize>,
+        scale: f64,
+        gate_frames: f64,
+        phase_frames: f64,
+        noise: usize,
+        prior: Vec<Mat3<f64>>,
+        /// The variation a request without one runs at.
+        pub default_variation: f32,
+        /// Whether `method: model` runs it for root-only and 2-D keys.
+        pub default_for_partial_keys: bool,
     }
 
-    /// Loads `tween_cond.onnx` and its manifest from a folder.
-    pub fn load_dir(dir: &std::path::Path) -> Result<Self> {
-        let read = |n: &str| crate::runtime::read_file(dir, n);
-        let manifest = String::from_utf8(read("tween_cond.manifest.json")?)
-            .map_err(|e| Error::Invalid(e.to_string()))?;
-        Self::new(&read("tween_cond.onnx")?, &manifest)
+    /// Per frame of a group of keys: (s, frames since the previous key / P,
+    /// to the next / P, gate) and the previous / next key's index in the
+    /// group; `cond.py`'s `group_phase`.
+    struct Phase {
+        ph: Vec<[f64; 4]>,
+        ab: Vec<(usize, usize)>,
     }
 
-    /// Prepares the network for requests of any length
-    /// ([`crate::runtime::Model::prepare_any_shape`]).
-    pub fn prepare_any_length(&self) -> Result<()> {
-        self.net.prepare_any_shape().map(|_| ())
-    }
-
-    /// What the request planner needs of this network.
-    pub fn info(&self) -> CondInfo {
-        CondInfo {
-            variation: self.default_variation,
-            default_for_partial_keys: self.default_for_partial_keys,
+    fn group_phase(group: &[usize], n: usize, gate_frames: f64, phase_frames: f64) -> Phase {
+        let mut ph = Vec::with_capacity(n);
+        let mut ab = Vec::with_capacity(n);
+        if group.is_empty() {
+            return Phase {
+                ph: vec![[0.0; 4]; n],
+                ab: vec![(0, 0); n],
+            };
         }
-    }
-
-    fn input_channels(&self) -> usize {
-        let k = self.rotating.len();
-        let j = self.template.joints.len();
-        3 + 6 * k + 4 + 1 + 4 + 1 + 4 + 2 * j + self.noise
-    }
-
-    /// In-betweens `keys` (each a pose, root or 2-D key, [`classify`]) over
-    /// `frames` frames. Poses and root positions are exact; 2-D keys are
-    /// exact after [`super::xy::pin_xy_keys`] and
-    /// [`super::post::make_keys_exact`], which [`super::serve`] runs.
-    ///
-    /// `seed` draws the network's noise input (standard normal, constant
-    /// over the request); `None` gives zero noise, the seedless output.
-    pub fn synthesize(
-        &self,
-        keys: &[Keyframe],
-        frames: usize,
-        variation: f32,
-        seed: Option<u64>,
-    ) -> Result<Motion> {
-        super::check_variation(variation)?;
-        let joints = self.template.joints.len();
-        super::validate_keys(keys, frames, joints)?;
-        let classes: Vec<KeyClass> = keys
-            .iter()
-            .enumerate()
-            .map(|(i, k)| {
-                classify(k).ok_or_else(|| {
-                    Error::Invalid(format!(
-                        "the conditional network takes whole poses, root positions and 2-D keys of every joint; \
-                         key {i} (frame {}) gives something else (the generator takes it: method generator)",
-                        k.frame
-                    ))
-                })
-            })
-            .collect::<Result<_>>()?;
-        let n = frames;
-        let (k, j) = (self.rotating.len(), joints);
-        let all: Vec<usize> = (0..keys.len()).collect();
-        let pk: Vec<usize> = all
-            .iter()
-            .copied()
-            .filter(|i| classes[*i] == KeyClass::Pose)
-            .collect();
-        let xk: Vec<usize> = all
-            .iter()
-            .copied()
-            .filter(|i| classes[*i] != KeyClass::Root)
-            .collect();
-        let any_x = classes.contains(&KeyClass::Xy);
-        // the canonical frame: the first key's root x/z removed, and its
-        // heading when it is a pose and no key is 2-D
-        let k0 = &keys[0];
-        let c = match (&k0.rotations, classes[0]) {
-            (Some(r), KeyClass::Pose) if !any_x => rot_y(-r[0][0][2].atan2(r[0][2][2])),
-            _ => [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
-        };
-        let ct = transpose(&c);
-        let off = [k0.positions[0] as f64, 0.0, k0.positions[2] as f64];
-        let canon_root = |key: &Keyframe| -> V3 {
-            let p = &key.positions;
-            apply(
-                &c,
-                [
-                    p[0] as f64 - off[0],
-                    p[1] as f64 - off[1],
-                    p[2] as f64 - off[2],
-                ],
-            )
-        };
-        let frames_of = |ix: &[usize]| ix.iter().map(|&i| keys[i].frame).collect::<Vec<_>>();
-        let (gf, pf) = (self.gate_frames, self.phase_frames);
-        let ph_all = group_phase(&frames_of(&all), n, gf, pf);
-        let ph_p = group_phase(&frames_of(&pk), n, gf, pf);
-        let ph_x = group_phase(&frames_of(&xk), n, gf, pf);
-        let roots: Vec<V3> = keys.iter().map(canon_root).collect();
-        let base_root: Vec<V3> = (0..n)
-            .map(|t| {
-                let (a, b) = ph_all.ab[t];
-                let s = ph_all.ph[t][0];
-                std::array::from_fn(|i| roots[a][i] + s * (roots[b][i] - roots[a][i]))
-            })
-            .collect();
-        // base rotations on every joint (identity where a joint has no channels)
-        let eye: Mat3<f64> = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-        let mut base_rot: Vec<Vec<Mat3<f64>>> = if pk.is_empty() {
-            let mut pose = vec![eye; j];
-            for (s, &jt) in self.rotating.iter().enumerate() {
-                pose[jt] = self.prior[s];
-            }
-            vec![pose; n]
-        } else {
-            let pose_keys: Vec<Keyframe> = pk.iter().map(|&i| keys[i].clone()).collect();
-            let mut r = slerp_lerp(&pose_keys, n)?.rotations;
-            for f in r.iter_mut() {
-                f[0] = mul(&c, &f[0]);
-            }
-            r
-        };
-        let gate_rot: Vec<f64> = if pk.is_empty() {
-            vec![1.0; n]
-        } else {
-            ph_p.ph.iter().map(|p| p[3]).collect()
-        };
-        // keyed x/y per 2-D or pose key: root-relative, in the canonical frame
-        let xy: Vec<Vec<[f64; 2]>> = xk
-            .iter()
-            .map(|&i| {
-                let p = &keys[i].positions;
-                (0..j)
-                    .map(|jt| {
-                        if jt == 0 {
-                            return [0.0, 0.0];
-                        }
-                        let v = apply(&c, std::array::from_fn(|q| p[3 * jt + q] as f64));
-                        [v[0] / self.scale, v[1] / self.scale]
-                    })
-                    .collect()
-            })
-            .collect();
-        let cin = self.input_channels();
-        let mut x = vec![0f32; cin * n];
-        let mut put = |ch: usize, t: usize, v: f64| x[ch * n + t] = v as f32;
-        let flag_p = if pk.is_empty() { 0.0 } else { 1.0 };
-        let flag_x = if xk.is_empty() { 0.0 } else { 1.0 };
-        let o_ph = 3 + 6 * k;
-        let o_xy = o_ph + 4 + 1 + 4 + 1 + 4;
-        let o_z = o_xy + 2 * j;
-        let noise: Vec<f64> = match seed {
-            Some(s) => {
-                let mut rng = crate::rng::Rng::new(s);
-                (0..self.noise).map(|_| rng.normal()).collect()
-            }
-            None => vec![0.0; self.noise],
-        };
+        let last = group.len() - 1;
         for t in 0..n {
-            for i in 0..3 {
-                put(i, t, base_root[t][i] / self.scale);
+            let (a, b, s) = if t < group[0] {
+                (0, 0, 0.0)
+            } else if t > group[last] {
+                (last, last, 1.0)
+            } else if last == 0 {
+                (0, 0, 0.0)
+            } else {
+                // the segment whose start is the last key at or before t (the
+                // last segment at the last key), as residual.key_phase
+                let seg = (group.partition_point(|&k| k <= t) - 1).min(last - 1);
+                let (fa, fb) = (group[seg], group[seg + 1]);
+                let s = ((t as f64 - fa as f64) / (fb as f64 - fa as f64)).clamp(0.0, 1.0);
+                (seg, seg + 1, s)
+            };
+            let dp = (t as f64 - group[a] as f64).abs();
+            let dn = (group[b] as f64 - t as f64).abs();
+            let gate = 1.0 - (-dp.min(dn) / gate_frames).exp();
+            ph.push([s, dp / phase_frames, dn / phase_frames, gate]);
+            ab.push((a, b));
+        }
+        Phase { ph, ab }
+    }
+
+    impl CondModel {
+        /// Loads the network (the bytes of `tween_cond.onnx`) and its manifest.
+        pub fn new(onnx: &[u8], manifest_json: &str) -> Result<Self> {
+            let bad = |m: String| Error::Invalid(format!("conditional network manifest: {m}"));
+            let m: Manifest =
+                serde_json::from_str(manifest_json).map_err(|e| bad(e.to_string()))?;
+            if m.kind != "cond-tween" {
+                return Err(bad(format!("kind '{}', expected 'cond-tween'", m.kind)));
             }
-            for (s, &jt) in self.rotating.iter().enumerate() {
-                for (q, v) in sixd(&base_rot[t][jt]).iter().enumerate() {
-                    put(3 + 6 * s + q, t, *v);
+            let template = Bvh::parse(&m.skeleton_bvh)?;
+            let j = template.joints.len();
+            let with_channels: Vec<usize> = (0..j)
+                .filter(|&i| !template.joints[i].channels.is_empty())
+                .collect();
+            if m.rotating != with_channels || m.rotating.first() != Some(&0) {
+                return Err(bad(
+                    "'rotating' must list the skeleton's joints with channels, the root first"
+                        .into(),
+                ));
+            }
+            if m.joints != j {
+                return Err(bad(format!("{} joints, the skeleton has {j}", m.joints)));
+            }
+            if !(m.scale > 0.0 && m.gate_frames > 0.0 && m.phase_frames > 0.0) {
+                return Err(bad(
+                    "scale, gate_frames and phase_frames must be positive".into()
+                ));
+            }
+            if m.noise_channels > 1024 {
+                return Err(bad(format!("{} noise channels", m.noise_channels)));
+            }
+            if m.prior.len() != m.rotating.len()
+                || m.prior
+                    .iter()
+                    .any(|r| r.len() != 9 || r.iter().any(|v| !v.is_finite()))
+            {
+                return Err(bad(format!(
+                    "'prior' must hold {} finite 3 × 3 matrices",
+                    m.rotating.len()
+                )));
+            }
+            let default_variation = m.variation.unwrap_or(1.0);
+            crate::motion::check_variation(default_variation).map_err(|e| bad(e.to_string()))?;
+            let prior = m
+                .prior
+                .iter()
+                .map(|r| std::array::from_fn(|a| std::array::from_fn(|b| r[3 * a + b])))
+                .collect();
+            Ok(CondModel {
+                net: Model::from_onnx_bytes(onnx)?,
+                template,
+                rotating: m.rotating,
+                scale: m.scale,
+                gate_frames: m.gate_frames,
+                phase_frames: m.phase_frames,
+                noise: m.noise_channels,
+                prior,
+                default_variation,
+                default_for_partial_keys: m.default_for_partial_keys,
+            })
+        }
+
+        /// Loads `tween_cond.onnx` and its manifest from a folder.
+        pub fn load_dir(dir: &std::path::Path) -> Result<Self> {
+            let read = |n: &str| crate::runtime::read_file(dir, n);
+            let manifest = String::from_utf8(read("tween_cond.manifest.json")?)
+                .map_err(|e| Error::Invalid(e.to_string()))?;
+            Self::new(&read("tween_cond.onnx")?, &manifest)
+        }
+
+        /// Prepares the network for requests of any length
+        /// ([`crate::runtime::Model::prepare_any_shape`]).
+        pub fn prepare_any_length(&self) -> Result<()> {
+            self.net.prepare_any_shape().map(|_| ())
+        }
+
+        /// What the request planner needs of this network.
+        pub fn info(&self) -> CondInfo {
+            CondInfo {
+                variation: self.default_variation,
+                default_for_partial_keys: self.default_for_partial_keys,
+            }
+        }
+
+        fn input_channels(&self) -> usize {
+            let k = self.rotating.len();
+            let j = self.template.joints.len();
+            3 + 6 * k + 4 + 1 + 4 + 1 + 4 + 2 * j + self.noise
+        }
+
+        /// In-betweens `keys` (each a pose, root or 2-D key, [`classify`]) over
+        /// `frames` frames. Poses and root positions are exact; 2-D keys are
+        /// exact after [`crate::motion::xy::pin_xy_keys`] and
+        /// [`crate::motion::post::make_keys_exact`], which [`crate::motion::serve`] runs.
+        ///
+        /// `seed` draws the network's noise input (standard normal, constant
+        /// over the request); `None` gives zero noise, the seedless output.
+        pub fn synthesize(
+            &self,
+            keys: &[Keyframe],
+            frames: usize,
+            variation: f32,
+            seed: Option<u64>,
+        ) -> Result<Motion> {
+            crate::motion::check_variation(variation)?;
+            let joints = self.template.joints.len();
+            crate::motion::validate_keys(keys, frames, joints)?;
+            let classes: Vec<KeyClass> = keys
+                .iter()
+                .enumerate()
+                .map(|(i, k)| {
+                    classify(k).ok_or_else(|| {
+                        Error::Invalid(format!(
+                            "the conditional network takes whole poses, root positions and 2-D keys of every joint; \
+                             key {i} (frame {}) gives something else (the generator takes it: method generator)",
+                            k.frame
+                        ))
+                    })
+                })
+                .collect::<Result<_>>()?;
+            let n = frames;
+            let (k, j) = (self.rotating.len(), joints);
+            let all: Vec<usize> = (0..keys.len()).collect();
+            let pk: Vec<usize> = all
+                .iter()
+                .copied()
+                .filter(|i| classes[*i] == KeyClass::Pose)
+                .collect();
+            let xk: Vec<usize> = all
+                .iter()
+                .copied()
+                .filter(|i| classes[*i] != KeyClass::Root)
+                .collect();
+            let any_x = classes.contains(&KeyClass::Xy);
+            // the canonical frame: the first key's root x/z removed, and its
+            // heading when it is a pose and no key is 2-D
+            let k0 = &keys[0];
+            let c = match (&k0.rotations, classes[0]) {
+                (Some(r), KeyClass::Pose) if !any_x => rot_y(-r[0][0][2].atan2(r[0][2][2])),
+                _ => [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+            };
+            let ct = transpose(&c);
+            let off = [k0.positions[0] as f64, 0.0, k0.positions[2] as f64];
+            let canon_root = |key: &Keyframe| -> V3 {
+                let p = &key.positions;
+                apply(
+                    &c,
+                    [
+                        p[0] as f64 - off[0],
+                        p[1] as f64 - off[1],
+                        p[2] as f64 - off[2],
+                    ],
+                )
+            };
+            let frames_of = |ix: &[usize]| ix.iter().map(|&i| keys[i].frame).collect::<Vec<_>>();
+            let (gf, pf) = (self.gate_frames, self.phase_frames);
+            let ph_all = group_phase(&frames_of(&all), n, gf, pf);
+            let ph_p = group_phase(&frames_of(&pk), n, gf, pf);
+            let ph_x = group_phase(&frames_of(&xk), n, gf, pf);
+            let roots: Vec<V3> = keys.iter().map(canon_root).collect();
+            let base_root: Vec<V3> = (0..n)
+                .map(|t| {
+                    let (a, b) = ph_all.ab[t];
+                    let s = ph_all.ph[t][0];
+                    std::array::from_fn(|i| roots[a][i] + s * (roots[b][i] - roots[a][i]))
+                })
+                .collect();
+            // base rotations on every joint (identity where a joint has no channels)
+            let eye: Mat3<f64> = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+            let mut base_rot: Vec<Vec<Mat3<f64>>> = if pk.is_empty() {
+                let mut pose = vec![eye; j];
+                for (s, &jt) in self.rotating.iter().enumerate() {
+                    pose[jt] = self.prior[s];
                 }
-            }
-            for q in 0..4 {
-                put(o_ph + q, t, ph_p.ph[t][q]);
-                put(o_ph + 5 + q, t, ph_all.ph[t][q]);
-                put(o_ph + 10 + q, t, ph_x.ph[t][q]);
-            }
-            put(o_ph + 4, t, flag_p);
-            put(o_ph + 9, t, flag_x);
-            for (q, z) in noise.iter().enumerate() {
-                put(o_z + q, t, *z);
-            }
-            if !xk.is_empty() {
-                let (a, b) = ph_x.ab[t];
-                let s = ph_x.ph[t][0];
-                for jt in 0..j {
-                    for q in 0..2 {
-                        let v = xy[a][jt][q] + s * (xy[b][jt][q] - xy[a][jt][q]);
-                        put(o_xy + 2 * jt + q, t, v);
+                vec![pose; n]
+            } else {
+                let pose_keys: Vec<Keyframe> = pk.iter().map(|&i| keys[i].clone()).collect();
+                let mut r = slerp_lerp(&pose_keys, n)?.rotations;
+                for f in r.iter_mut() {
+                    f[0] = mul(&c, &f[0]);
+                }
+                r
+            };
+            let gate_rot: Vec<f64> = if pk.is_empty() {
+                vec![1.0; n]
+            } else {
+                ph_p.ph.iter().map(|p| p[3]).collect()
+            };
+            // keyed x/y per 2-D or pose key: root-relative, in the canonical frame
+            let xy: Vec<Vec<[f64; 2]>> = xk
+                .iter()
+                .map(|&i| {
+                    let p = &keys[i].positions;
+                    (0..j)
+                        .map(|jt| {
+                            if jt == 0 {
+                                return [0.0, 0.0];
+                            }
+                            let v = apply(&c, std::array::from_fn(|q| p[3 * jt + q] as f64));
+                            [v[0] / self.scale, v[1] / self.scale]
+                        })
+                        .collect()
+                })
+                .collect();
+            let cin = self.input_channels();
+            let mut x = vec![0f32; cin * n];
+            let mut put = |ch: usize, t: usize, v: f64| x[ch * n + t] = v as f32;
+            let flag_p = if pk.is_empty() { 0.0 } else { 1.0 };
+            let flag_x = if xk.is_empty() { 0.0 } else { 1.0 };
+            let o_ph = 3 + 6 * k;
+            let o_xy = o_ph + 4 + 1 + 4 + 1 + 4;
+            let o_z = o_xy + 2 * j;
+            let noise: Vec<f64> = match seed {
+                Some(s) => {
+                    let mut rng = crate::rng::Rng::new(s);
+                    (0..self.noise).map(|_| rng.normal()).collect()
+                }
+                None => vec![0.0; self.noise],
+            };
+            for t in 0..n {
+                for i in 0..3 {
+                    put(i, t, base_root[t][i] / self.scale);
+                }
+                for (s, &jt) in self.rotating.iter().enumerate() {
+                    for (q, v) in sixd(&base_rot[t][jt]).iter().enumerate() {
+                        put(3 + 6 * s + q, t, *v);
+                    }
+                }
+                for q in 0..4 {
+                    put(o_ph + q, t, ph_p.ph[t][q]);
+                    put(o_ph + 5 + q, t, ph_all.ph[t][q]);
+                    put(o_ph + 10 + q, t, ph_x.ph[t][q]);
+                }
+                put(o_ph + 4, t, flag_p);
+                put(o_ph + 9, t, flag_x);
+                for (q, z) in noise.iter().enumerate() {
+                    put(o_z + q, t, *z);
+                }
+                if !xk.is_empty() {
+                    let (a, b) = ph_x.ab[t];
+                    let s = ph_x.ph[t][0];
+                    for jt in 0..j {
+                        for q in 0..2 {
+                            let v = xy[a][jt][q] + s * (xy[b][jt][q] - xy[a][jt][q]);
+                            put(o_xy + 2 * jt + q, t, v);
+                        }
                     }
                 }
             }
-        }
-        let out = self.net.run(&[TensorF32::new(x, vec![1, cin, n])?])?;
-        let res = out
-            .into_iter()
-            .next()
-            .ok_or_else(|| Error::Model("the conditional network gave no output".into()))?;
-        let cout = 3 + 6 * k;
-        if res.shape != [1, cout, n] {
-            return Err(Error::Model(format!(
-                "conditional network output {:?}, expected [1, {cout}, {n}]",
-                res.shape
-            )));
-        }
-        crate::error::check_finite("conditional network output", &res.data)?;
-        let r = |ch: usize, t: usize| res.data[ch * n + t] as f64;
-        let v = variation as f64;
-        let mut m = Motion {
-            root: Vec::with_capacity(n),
-            rotations: Vec::with_capacity(n),
-        };
-        for (t, frame) in base_rot.iter_mut().enumerate() {
-            let g = v * ph_all.ph[t][3];
-            let moved: V3 = std::array::from_fn(|i| base_root[t][i] + g * r(i, t) * self.scale);
-            let back = apply(&ct, moved);
-            m.root.push(std::array::from_fn(|i| back[i] + off[i]));
-            let w = v * gate_rot[t];
-            for (s, &jt) in self.rotating.iter().enumerate() {
-                if w != 0.0 {
-                    let b6 = sixd(&frame[jt]);
-                    let six: [f64; 6] = std::array::from_fn(|q| b6[q] + w * r(3 + 6 * s + q, t));
-                    frame[jt] = from_sixd(&six).ok_or_else(|| Error::Degenerate {
-                        what: "conditional network 6D output".into(),
-                        index: t,
-                    })?;
-                }
+            let out = self.net.run(&[TensorF32::new(x, vec![1, cin, n])?])?;
+            let res = out
+                .into_iter()
+                .next()
+                .ok_or_else(|| Error::Model("the conditional network gave no output".into()))?;
+            let cout = 3 + 6 * k;
+            if res.shape != [1, cout, n] {
+                return Err(Error::Model(format!(
+                    "conditional network output {:?}, expected [1, {cout}, {n}]",
+                    res.shape
+                )));
             }
-            frame[0] = mul(&ct, &frame[0]);
+            crate::error::check_finite("conditional network output", &res.data)?;
+            let r = |ch: usize, t: usize| res.data[ch * n + t] as f64;
+            let v = variation as f64;
+            let mut m = Motion {
+                root: Vec::with_capacity(n),
+                rotations: Vec::with_capacity(n),
+            };
+            for (t, frame) in base_rot.iter_mut().enumerate() {
+                let g = v * ph_all.ph[t][3];
+                let moved: V3 = std::array::from_fn(|i| base_root[t][i] + g * r(i, t) * self.scale);
+                let back = apply(&ct, moved);
+                m.root.push(std::array::from_fn(|i| back[i] + off[i]));
+                let w = v * gate_rot[t];
+                for (s, &jt) in self.rotating.iter().enumerate() {
+                    if w != 0.0 {
+                        let b6 = sixd(&frame[jt]);
+                        let six: [f64; 6] =
+                            std::array::from_fn(|q| b6[q] + w * r(3 + 6 * s + q, t));
+                        frame[jt] = from_sixd(&six).ok_or_else(|| Error::Degenerate {
+                            what: "conditional network 6D output".into(),
+                            index: t,
+                        })?;
+                    }
+                }
+                frame[0] = mul(&ct, &frame[0]);
+            }
+            m.rotations = base_rot;
+            Ok(m)
         }
-        m.rotations = base_rot;
-        Ok(m)
     }
 }

@@ -206,3 +206,44 @@ fn the_conditional_network_takes_a_seed_as_its_noise() {
         );
     }
 }
+
+/// A manifest that does not fit its network or skeleton is an error that
+/// names the field, before any ONNX is read.
+#[test]
+fn bad_conditional_manifests_are_errors() {
+    let dir = root().join("models/onnx");
+    let Ok(text) = std::fs::read_to_string(dir.join("tween_cond.manifest.json")) else {
+        eprintln!("SKIP: models/onnx/tween_cond.manifest.json is not exported yet");
+        return;
+    };
+    let good: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let with = |key: &str, v: serde_json::Value| {
+        let mut m = good.clone();
+        m[key] = v;
+        m.to_string()
+    };
+    for (manifest, want) in [
+        (
+            with("kind", "residual-tween".into()),
+            "expected 'cond-tween'",
+        ),
+        (with("joints", 3.into()), "3 joints, the skeleton has"),
+        (
+            with("prior", serde_json::json!([[1.0]])),
+            "'prior' must hold",
+        ),
+        (with("noise_channels", 1_000_000.into()), "noise channels"),
+        (with("scale", 0.into()), "must be positive"),
+        (with("variation", 5.into()), "[0, 2]"),
+        (
+            with("rotating", serde_json::json!([1, 0])),
+            "'rotating' must list",
+        ),
+    ] {
+        let e = CondModel::new(&[], &manifest)
+            .err()
+            .expect(want)
+            .to_string();
+        assert!(e.contains(want), "{want}: {e}");
+    }
+}

@@ -2,7 +2,7 @@
 motion/eval.py runs on the validation takes:
 
   train/.venv/bin/python -m deeprep_train.motion.eval --gaps 60,120,300 \\
-      --methods slerp,model,keys-root,keys-xy --json docs/inbetween_control.json
+      --methods slerp,model,keys-root,keys-xy,cond-root,cond-xy --json docs/inbetween_control.json
   train/.venv/bin/python -m deeprep_train.motion.eval --gaps 1500 \\
       --methods slerp,model,residual-1 --json docs/inbetween_gap1500.json
   train/.venv/bin/python -m deeprep_train.motion.control_table
@@ -19,6 +19,8 @@ NAMES = {
     "model": "networks, whole-pose keys",
     "keys-root": "networks, root-only keys",
     "keys-xy": "networks, 2-D keys (x, y of every joint + root)",
+    "cond-root": "conditional network (`--method cond`), root-only keys",
+    "cond-xy": "conditional network (`--method cond`), 2-D keys",
     "residual-1": "residual network, whole-pose keys",
 }
 
