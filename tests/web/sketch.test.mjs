@@ -319,8 +319,8 @@ test('sketch page: a root path drawn on the ground (root-only keys, Sec. 5.4.1)'
   assert.ok(Math.abs(Number(await page.inputValue('#variation')) - planned.generator) < 1e-6);
   // Issue 47: the same path by the conditional network. Its limbs move: the
   // mean joint speed relative to the root over frames 0-180 is at least half
-  // the captured validation takes' (docs/inbetween_control.json, motion/eval.py)
-  // and well above the generator's (which slides a nearly frozen body).
+  // the captured training takes' (its manifest's captured_joint_speed) and well
+  // above the generator's (which slides a nearly frozen body).
   const speed = () => page.evaluate(() => {
     const s = window.deeprepState, J = s.skeleton.names.length, p = s.result.positions;
     let sum = 0, n = 0;
@@ -341,7 +341,7 @@ test('sketch page: a root path drawn on the ground (root-only keys, Sec. 5.4.1)'
   assert.equal((await ran(page)).pipeline, 'cond');
   assert.equal(await page.textContent('#method-badge'), 'conditional network');
   const condSpeed = await speed();
-  const truth = JSON.parse(fs.readFileSync(path.join(ROOT, 'docs/inbetween_control.json'), 'utf8'))['slerp@60'].truth_speed;
+  const truth = manifest('tween_cond').captured_joint_speed.value;
   assert.ok(condSpeed >= 0.5 * truth && condSpeed > 3 * generatorSpeed,
     `joint speed: conditional network ${condSpeed.toFixed(3)}, generator ${generatorSpeed.toFixed(3)}, captured ${truth.toFixed(3)} units/frame`);
   // its root still passes through the clicked points

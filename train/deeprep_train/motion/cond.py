@@ -543,6 +543,23 @@ FIXTURE_CASES = [
 ]
 
 
+def captured_speed(skel, clips):
+    """The training takes' mean joint speed relative to the root (units per
+    frame at 60 fps, every joint but the root, windows of 300 frames every
+    300): what a page test compares a synthesized motion's limbs with."""
+    tot, n = 0.0, 0
+    for s0, ln in zip(clips.starts, clips.lens):
+        for a in range(int(s0), int(s0 + ln) - 300, 300):
+            with torch.no_grad():
+                pos = fk(skel, clips.root[None, a:a + 300], quat_to_mat(clips.quat[None, a:a + 300]),
+                         skel.offsets[None])[0]
+            rel = pos[:, 1:] - pos[:, :1]
+            tot += float(rel.diff(dim=0).norm(dim=-1).sum())
+            n += rel.shape[1] * 299
+    return {"value": tot / n, "what": "the training takes' mean joint speed relative to the root, units per frame "
+                                      "at 60 fps (motion/cond.py captured_speed)"}
+
+
 def export(args):
     """models/onnx/tween_cond.onnx (the moving average of --ckpt), its
     manifest, the network's parity fixture and the motion fixture."""
@@ -602,6 +619,7 @@ def export(args):
         "training_code_commit": git_commit(),
         "exporter": {"torch": torch.__version__, "onnxruntime": ort.__version__, "opset": 17},
         "default_for_partial_keys": bool(args.default_for_partial_keys),
+        "captured_joint_speed": captured_speed(skel, clips),
     })
     convert("tween_cond")
     # the motion fixture, from the float16 file as shipped
