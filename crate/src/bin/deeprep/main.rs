@@ -34,7 +34,7 @@ const USAGE: &str = "usage:
       at rest; MAP.json ({\"leftShin\": \"L_Knee\", ...}) replaces roles found in SRC by name
   deeprep inbetween --from-bvh CLIP.bvh --keys F1,F2,... -o OUT.bvh
           [--method model|generator|residual|cond|slerp|zerovel] [--models DIR] [--no-post] [--foot-lock] [--variation V]
-          [--dna F1,F2,...|DNA.bvh [--seed S]] [--key-kind pose|root|xy]
+          [--dna F1,F2,...|DNA.bvh [--seed S]] [--seed S (--method cond)] [--key-kind pose|root|xy]
       keys from those frames of CLIP (--key-kind: whole poses, the default; the root's
       position only; or every joint's global x and y with the root); OUT has CLIP's length, frame rate and
       skeleton; frames between the first and last key are synthesized, the others copied
@@ -54,7 +54,7 @@ const USAGE: &str = "usage:
       whose tangents are the context's velocities (--method hermite) and longer ones with the
       network; a gap reversed, outside the clip, touching its first or last frame, or
       overlapping another is an error
-  deeprep inbetween KEYS.json --frames N [-o OUT.bvh] [--models DIR] [--no-post] [--foot-lock] [--variation V] [--dna DNA.bvh [--seed S]]
+  deeprep inbetween KEYS.json --frames N [-o OUT.bvh] [--models DIR] [--method M] [--no-post] [--foot-lock] [--variation V] [--dna DNA.bvh [--seed S]]
       --no-post: keys not made exact; --foot-lock: after that, pin feet in contact by two-bone IK
       (off by default: at the default variation it raised L2P, NPSS and foot skating on training takes)
       --variation V in [0, 2]: share of the networks' departure from SLERP+LERP kept, in the pose
@@ -64,6 +64,8 @@ const USAGE: &str = "usage:
       model's skeleton; without it the whole-pose keys serve
       --seed S (with --dna DNA.bvh): DNA drawn as in training, the representative frames
       (largest rotation change) of a window of DNA.bvh that S places; equal seeds, equal motion
+      --seed S (with --method cond, no --dna): the conditional network's noise draw; another
+      seed, another motion through the same keys; without it, zero noise
       KEYS.json: {\"keys\": [KEY, ...]}, each KEY one of {\"frame\": F, \"channels\": [...]} (a whole
       pose: BVH channels of the model's skeleton), {\"frame\": F, \"root\": [x, y, z]} (the root
       only), {\"frame\": F, \"xy\": [[x, y] or null per joint], \"root\": [x, y, z] or null} (2-D
