@@ -1,6 +1,6 @@
 //! The conditional network (issue 47): tract against onnxruntime, and the
 //! whole request (features, network, output) against the Python training
-//! code's on the keys of `models/onnx/fixtures/tween_cond_motion.json`.
+//! code's on the keys of `models/onnx/fixtures/runtime/tween_cond_motion.json` (not a network fixture: tests/parity reads only the top folder).
 
 use crate::common::{self, root};
 use deeprep::motion::cond::{classify, CondModel, KeyClass};
@@ -68,7 +68,7 @@ fn tract_matches_onnxruntime_on_the_conditional_network() {
 #[test]
 fn the_conditional_network_reproduces_the_training_code() {
     let Some(m) = model() else { return };
-    let f = common::fixture("tween_cond_motion");
+    let f = common::fixture("runtime/tween_cond_motion");
     let joints = m.template.joints.len();
     let rotating: Vec<usize> = (0..joints)
         .filter(|&j| !m.template.joints[j].channels.is_empty())

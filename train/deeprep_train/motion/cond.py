@@ -51,7 +51,7 @@ after it.
 `export` writes models/onnx/tween_cond.onnx (float16 weights), its manifest
 (with the prior pose, so the runtime builds the same input) and two
 fixtures: the network's (onnxruntime's output for one input) and
-tween_cond_motion.json (keys of every kind and the motion this module's
+fixtures/runtime/tween_cond_motion.json (keys of every kind and the motion this module's
 `features` and `apply` make from them with the exported network), which
 crate/src/motion/cond.rs must reproduce.
 """
@@ -655,7 +655,8 @@ def export(args):
         cases.append({"frames": n, "keys": key_rows,
                       "root": [[round(float(v), 5) for v in r] for r in w_root],
                       "sixd": [[round(float(v), 6) for v in sixd(m).reshape(-1)] for m in rot]})
-    write_json(os.path.join(ONNX_DIR, "fixtures", "tween_cond_motion.json"), {
+    os.makedirs(os.path.join(ONNX_DIR, "fixtures", "runtime"), exist_ok=True)
+    write_json(os.path.join(ONNX_DIR, "fixtures", "runtime", "tween_cond_motion.json"), {
         "model": "tween_cond.onnx",
         "about": "keys (root: global; positions: joint positions relative to the root, world axes, every joint; "
                  "rotations: local rotation matrices of the rotating joints, row-major) and the motion "
