@@ -44,6 +44,8 @@ METHODS = {
     "residual": ["--method", "residual"],
     # the network with only the last context frame and the target as keys
     "residual-2": ["--method", "residual", "--context", "1,1"],
+    # the conditional network (issue 47), every context frame a whole-pose key
+    "cond": ["--method", "cond"],
     # the default: motion::fill::method_for (Hermite up to 45 frames, the network beyond)
     "model": ["--method", "model"],
 }
