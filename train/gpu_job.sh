@@ -25,7 +25,9 @@
 # start-up and the write-back), BATCH (64), DEVICE (cuda), PORTABLE (the
 # committed checkpoint to start from, default checkpoints/tween_cond.pt;
 # INIT=checkpoints/tween_resid_w128b.pt starts a new one from the whole-pose
-# network instead) and EXTRA (more `cond train` flags). Try it on the CPU first:
+# network instead) and EXTRA (more `cond train` flags; default the current
+# stage's: --gan-weight 0.1 --div-weight 1 --div-tau 0.06, a new discriminator
+# each run since the portable file carries none). Try it on the CPU first:
 #   OUT=/tmp/gpu_try DEVICE=cpu MINUTES=0.2 BATCH=2 bash train/gpu_job.sh
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -36,7 +38,8 @@ DEVICE=${DEVICE:-cuda}
 PY=${PY:-python3}
 PORTABLE=${PORTABLE:-checkpoints/tween_cond.pt}
 INIT=${INIT:-}
-EXTRA=${EXTRA:-}
+# the stage the CPU run is in (notes/cond.md): adversarial and diversity terms
+EXTRA=${EXTRA:---gan-weight 0.1 --div-weight 1 --div-tau 0.06}
 [ -x .venv/bin/python ] && [ "$DEVICE" = cpu ] && PY=.venv/bin/python
 export PYTHONPATH="$PWD${PYTHONPATH:+:$PYTHONPATH}" PYTHONUNBUFFERED=1
 [ -f cache/resid60.npz ] || { echo "gpu_job: train/cache/resid60.npz is missing: carry it (see the header)" >&2; exit 2; }
