@@ -472,7 +472,8 @@ def evaluate(args):
                 x, g_root, g_rot, base_root, base_rot, gt_root, gt_rot = [v.unsqueeze(0) for v in f]
                 offs = skel.offsets.unsqueeze(0)
                 with torch.no_grad():
-                    r, q = apply(net, x, g_root, g_rot, base_root, base_rot)
+                    # --variation scales the residual (0: the base; with pose keys SLERP+LERP)
+                    r, q = apply(net, x, g_root * args.variation, g_rot * args.variation, base_root, base_rot)
                 pos = fk(skel, r, q, offs)[0]
                 gpos = fk(skel, gt_root, gt_rot, offs)[0]
                 rel, grel = pos - pos[:, :1], gpos - gpos[:, :1]
@@ -702,6 +703,8 @@ def main():
     ap.add_argument("--ckpt")
     ap.add_argument("--gaps", type=lambda s: [int(x) for x in s.split(",")], default=[60, 120, 300])
     ap.add_argument("--json")
+    ap.add_argument("--variation", type=float, default=1.0,
+                    help="eval: share of the residual kept (0: the base, SLERP+LERP for whole-pose keys)")
     ap.add_argument("--seeds", type=int, default=0,
                     help="eval: also run each window with this many noise draws: their mean pairwise distance "
                          "(seed_spread, units) and the first draw's NPSS (npss_seeded)")
