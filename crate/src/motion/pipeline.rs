@@ -364,33 +364,45 @@ impl TweenModels {
 
     /// Mean key errors of a motion.
     pub fn key_error(&self, m: &Motion, keys: &[Keyframe]) -> KeyError {
-        let (mut re, mut rn, mut le, mut ln) = (0.0, 0usize, 0.0, 0usize);
-        for k in keys.iter().filter(|k| k.frame < m.len()) {
-            if k.has_root() {
-                let r = m.root[k.frame];
-                re += (0..3)
-                    .map(|c| (r[c] - k.positions[c] as f64).powi(2))
+        key_error(m, keys, &self.rc.parents, &self.rc.offsets)
+    }
+}
+
+/// Mean key errors of a motion on a skeleton given by parents and offsets:
+/// the root's position at keys that give it, and joint positions relative
+/// to the root over the coordinates each key gives (x and y for 2-D keys).
+pub fn key_error(
+    m: &Motion,
+    keys: &[Keyframe],
+    parents: &[Option<usize>],
+    offsets: &[[f64; 3]],
+) -> KeyError {
+    let (mut re, mut rn, mut le, mut ln) = (0.0, 0usize, 0.0, 0usize);
+    for k in keys.iter().filter(|k| k.frame < m.len()) {
+        if k.has_root() {
+            let r = m.root[k.frame];
+            re += (0..3)
+                .map(|c| (r[c] - k.positions[c] as f64).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            rn += 1;
+        }
+        let pos = m.local_positions(k.frame, parents, offsets);
+        // over the coordinates the key gives (x and y for 2-D keys)
+        for (jj, q) in pos.iter().enumerate().skip(1) {
+            let given: Vec<usize> = (0..3).filter(|&c| k.mask[3 * jj + c]).collect();
+            if !given.is_empty() {
+                le += given
+                    .iter()
+                    .map(|&c| (q[c] - k.positions[3 * jj + c] as f64).powi(2))
                     .sum::<f64>()
                     .sqrt();
-                rn += 1;
-            }
-            let pos = m.local_positions(k.frame, &self.rc.parents, &self.rc.offsets);
-            // over the coordinates the key gives (x and y for 2-D keys)
-            for (jj, q) in pos.iter().enumerate().skip(1) {
-                let given: Vec<usize> = (0..3).filter(|&c| k.mask[3 * jj + c]).collect();
-                if !given.is_empty() {
-                    le += given
-                        .iter()
-                        .map(|&c| (q[c] - k.positions[3 * jj + c] as f64).powi(2))
-                        .sum::<f64>()
-                        .sqrt();
-                    ln += 1;
-                }
+                ln += 1;
             }
         }
-        KeyError {
-            root: if rn > 0 { re / rn as f64 } else { 0.0 },
-            local: if ln > 0 { le / ln as f64 } else { 0.0 },
-        }
+    }
+    KeyError {
+        root: if rn > 0 { re / rn as f64 } else { 0.0 },
+        local: if ln > 0 { le / ln as f64 } else { 0.0 },
     }
 }

@@ -74,11 +74,13 @@ pub struct Served {
     pub motion: Motion,
     /// What ran, at which variation.
     pub plan: Plan,
-    /// Milliseconds per stage: generator (or the one stage of the others),
-    /// RC-FK, path, post-processing.
+    /// Milliseconds per stage: generator (or the one stage of the others;
+    /// the conditional network's), RC-FK, path, post-processing (the
+    /// generator's and the conditional network's).
     pub stage_ms: [f64; 4],
     /// Key errors (BVH units): root and joints before post-processing,
-    /// then after (zeros where keys are exact by construction).
+    /// then after (the generator and the conditional network; zeros for the
+    /// others, whose keys are exact by construction).
     pub key_error: [f64; 4],
     /// The critical frames a hierarchical synthesis made first.
     pub critical_frames: Vec<usize>,
@@ -116,6 +118,15 @@ pub fn run(models: &Models, p: Plan, req: Request, now_ms: &dyn Fn() -> f64) -> 
         Pipeline::Cond => {
             let c = models.cond.ok_or_else(|| missing("conditional network"))?;
             let mut m = c.synthesize(&req.keys, req.frames, p.variation, req.seed)?;
+            let t_net = now_ms();
+            let parents: Vec<Option<usize>> = c.template.joints.iter().map(|j| j.parent).collect();
+            let offsets: Vec<[f64; 3]> = c
+                .template
+                .joints
+                .iter()
+                .map(|j| j.offset.map(|v| v as f64))
+                .collect();
+            let before = super::pipeline::key_error(&m, &req.keys, &parents, &offsets);
             if req.post_process && req.keys.iter().any(super::xy::is_xy_key) {
                 // 2-D keys become rotation keys fitted to the output, then
                 // exact (poses and root positions are exact already)
@@ -124,7 +135,17 @@ pub fn run(models: &Models, p: Plan, req: Request, now_ms: &dyn Fn() -> f64) -> 
             }
             let feet = (req.foot_lock && req.post_process)
                 .then(|| lock_feet(&mut m, &c.template, &req.keys, &FootLock::default()));
-            Ok(one_stage(m, feet))
+            let after = super::pipeline::key_error(&m, &req.keys, &parents, &offsets);
+            Ok(Served {
+                motion: m,
+                plan: p,
+                stage_ms: [t_net - t0, 0.0, 0.0, now_ms() - t_net],
+                // root and joints before post-processing (what the network
+                // gave: root positions and poses exact, 2-D keys not), then after
+                key_error: [before.root, before.local, after.root, after.local],
+                critical_frames: Vec::new(),
+                feet,
+            })
         }
         Pipeline::Generator => {
             let g = models.generator.ok_or_else(|| missing("generator"))?;

@@ -98,9 +98,9 @@ def method_args(m):
 
 
 def runs_model(m):
-    """Whether method m runs the generator pipeline (CLI --method model or
-    generator), whose key errors before post-processing are reported."""
-    return method_args(m)[1] in ("model", "generator")
+    """Whether method m runs a pipeline whose key errors before and after
+    post-processing the CLI reports (--method model, generator or cond)."""
+    return method_args(m)[1] in ("model", "generator", "cond")
 
 
 HYBRID_GROUPS = ["root position", "root height", "root rotation", "joints", "spine", "arms", "hands", "legs"]
@@ -347,7 +347,7 @@ def main(cfg):
                         out = os.path.join(tmp, f"out_{m}_{g}.bvh")
                         r = subprocess.run([cli(), "inbetween", "--from-bvh", clip, "--keys", ",".join(map(str, keys)),
                                             "-o", out] + method_args(m)
-                                           + (dna_args if runs_model(m) else []),
+                                           + (dna_args if method_args(m)[1] in ("model", "generator") else []),
                                            capture_output=True, text=True, cwd=ROOT)
                         if r.returncode != 0:
                             sys.exit(f"{m} on {clip}: {r.stderr}")

@@ -220,6 +220,13 @@ fn synthesize(
                 );
             }
         }
+        Pipeline::Cond => {
+            let e = s.key_error;
+            info += &format!(
+                "; key error before post-processing: root {:.3}, joints {:.3}; after: root {:.3}, joints {:.3}; stages ms: network {:.1}, post {:.1}",
+                e[0], e[1], e[2], e[3], t[0], t[3]
+            );
+        }
         _ => info += &format!("; {:.1} ms", t[0]),
     }
     if let Some(f) = s.feet {
