@@ -381,13 +381,13 @@ fn retargeting_keeps_foot_contacts() {
     let m = model();
     let mm = deeprep::motion::clip::model_roles(&m).unwrap();
     let mut report = serde_json::Map::new();
-    // iClone: its legs reach further from its hips than the model's do, and
-    // on 102 of 07_01's 157 frames an ankle stays up to 3.7 units (4% of
-    // the leg) short of the source's, scaled; 10.2% more skating there
+    // iClone's legs reach further from its hips than the model's do: without
+    // the hips coming down during contacts (Retarget::clip) an ankle stayed up
+    // to 3.7 units short of the source's, scaled, and skating rose 10.2%
     for (family, bound) in [
         ("cmu-hips", 1.10),
         ("3dsmax-friendly", 1.10),
-        ("iclone-cc", 1.15),
+        ("iclone-cc", 1.10),
     ] {
         let (mut before, mut after) = (0.0, 0.0);
         let mut stack = vec![data.join("cmu-extra/other-skeletons").join(family)];

@@ -24,7 +24,9 @@
 //!   from the ankles, [`hip_height`]);
 //! - **feet placed**: each ankle where the source's is, scaled like the
 //!   root, by two-bone IK on thigh and shin ([`super::two_bone`]), so that
-//!   planted feet stay planted on other proportions;
+//!   planted feet stay planted on other proportions; in a clip
+//!   ([`Retarget::clip`]), while a source foot is in contact and its scaled
+//!   ankle lies beyond the leg's reach, the hips come down until it does not;
 //! - **unmapped joints** (fingers, eyes, twist bones) stay at rest, or keep
 //!   their values from a clip on the target skeleton ([`Retarget::clip`]'s
 //!   `carry`: the way back onto a user's own skeleton).
@@ -82,6 +84,8 @@ pub struct Retarget {
     /// of the shin and the shin of the thigh on the target: the three
     /// (target joint, source joint) pairs.
     legs: Vec<[(usize, usize); 3]>,
+    /// The source's [`hip_height`] (contacts are judged against it).
+    src_leg: f64,
 }
 
 /// The hips' distance from the ankles in the rest pose (legs straight in
@@ -174,6 +178,7 @@ impl Retarget {
             follow,
             hips: (dst_map.joints[&Role::Hips], src_map.joints[&Role::Hips]),
             scale: ld / ls,
+            src_leg: ls,
             pairs,
         })
     }
@@ -194,6 +199,22 @@ impl Retarget {
     /// source's do. `carry` is a pose on the target skeleton whose unmapped
     /// joints are kept (rest when `None`).
     pub fn pose(&self, src: &Bvh, src_pose: &Pose, dst: &Bvh, carry: Option<&Pose>) -> Pose {
+        self.pose_with_contacts(src, src_pose, dst, carry, &[])
+    }
+
+    /// [`Retarget::pose`], with `contact[i]` true where leg `i`'s source
+    /// foot is on the floor: there, when the scaled ankle lies beyond the
+    /// leg's reach (a source whose legs reach further from its hips than
+    /// the target's), the hips come down until it does not, so a planted
+    /// foot stays planted.
+    fn pose_with_contacts(
+        &self,
+        src: &Bvh,
+        src_pose: &Pose,
+        dst: &Bvh,
+        carry: Option<&Pose>,
+        contact: &[bool],
+    ) -> Pose {
         let g = src_pose.global(src);
         let n = dst.joints.len();
         let mut global: Vec<DMat3> = Vec::with_capacity(n);
@@ -225,6 +246,28 @@ impl Retarget {
             translations,
             rotations,
         };
+        let gt = pose.global(dst);
+        let drop = self
+            .legs
+            .iter()
+            .zip(contact)
+            .filter(|(_, &c)| c)
+            .map(|(&[(thigh, _), (shin, _), (foot, sf)], _)| {
+                let h = gt.positions[thigh];
+                // the longest reach two-bone IK gives (two_bone::solve's bound)
+                let reach = (gt.positions[shin] - h).length()
+                    + (gt.positions[foot] - gt.positions[shin]).length()
+                    - 1e-4;
+                let d = g.positions[sf] * self.scale - h;
+                let across = d.x * d.x + d.z * d.z;
+                if d.length() <= reach || across >= reach * reach {
+                    return 0.0;
+                }
+                // lower the hips by t: |d + t ŷ| = reach
+                (-d.y - (reach * reach - across).sqrt()).max(0.0)
+            })
+            .fold(0.0f64, f64::max);
+        pose.translations[root].y -= drop;
         // each ankle where the source's is, scaled
         for &[(thigh, _), (shin, _), (foot, sf)] in &self.legs {
             let gt = pose.global(dst);
@@ -269,11 +312,28 @@ impl Retarget {
             }
         }
         let orders = super::pose::rotation_orders(dst);
+        // contacts: a source foot within 5% of the source's leg length of its
+        // lowest height in the clip
+        let feet: Vec<Vec<f64>> = (0..frames)
+            .map(|f| {
+                let g = Pose::read(src, src.frame(f)).global(src);
+                self.legs.iter().map(|l| g.positions[l[2].1].y).collect()
+            })
+            .collect();
+        let leg = self.src_leg;
+        let floor: Vec<f64> = (0..self.legs.len())
+            .map(|i| feet.iter().map(|f| f[i]).fold(f64::INFINITY, f64::min))
+            .collect();
         let mut motion = Vec::with_capacity(frames * dst.channel_count());
-        for f in 0..frames {
+        for (f, heights) in feet.iter().enumerate() {
             let sp = Pose::read(src, src.frame(f));
             let cp = carry.map(|c| Pose::read(dst, c.frame(f)));
-            let p = self.pose(src, &sp, dst, cp.as_ref());
+            let contact: Vec<bool> = heights
+                .iter()
+                .zip(&floor)
+                .map(|(y, lo)| *y < lo + 0.05 * leg)
+                .collect();
+            let p = self.pose_with_contacts(src, &sp, dst, cp.as_ref(), &contact);
             motion.extend(p.to_row_with_orders(dst, &orders)?);
         }
         if let Some(i) = motion.iter().position(|v| !v.is_finite()) {
