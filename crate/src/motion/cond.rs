@@ -138,6 +138,11 @@ mod model {
         net: Model,
         /// The skeleton as a BVH with no frames.
         pub template: Bvh,
+        /// The template's parent per joint and rest offsets (what FK and the
+        /// key errors read), kept from loading.
+        pub parents: Vec<Option<usize>>,
+        /// See `parents`.
+        pub offsets: Vec<[f64; 3]>,
         rotating: Vec<usize>,
         scale: f64,
         gate_frames: f64,
@@ -240,9 +245,17 @@ mod model {
                 .iter()
                 .map(|r| std::array::from_fn(|a| std::array::from_fn(|b| r[3 * a + b])))
                 .collect();
+            let parents = template.joints.iter().map(|j| j.parent).collect();
+            let offsets = template
+                .joints
+                .iter()
+                .map(|j| j.offset.map(|v| v as f64))
+                .collect();
             Ok(CondModel {
                 net: Model::from_onnx_bytes(onnx)?,
                 template,
+                parents,
+                offsets,
                 rotating: m.rotating,
                 scale: m.scale,
                 gate_frames: m.gate_frames,
@@ -330,14 +343,6 @@ mod model {
                 }
             }
             let rough = self.synthesize_flat(&coarse, coarse_frames, variation, seed)?;
-            let parents: Vec<Option<usize>> =
-                self.template.joints.iter().map(|j| j.parent).collect();
-            let offsets: Vec<[f64; 3]> = self
-                .template
-                .joints
-                .iter()
-                .map(|j| j.offset.map(|v| v as f64))
-                .collect();
             let mut all: Vec<Keyframe> = keys.to_vec();
             for w in keys.windows(2) {
                 let (a, b) = (w[0].frame, w[1].frame);
@@ -353,7 +358,7 @@ mod model {
                         continue;
                     }
                     let root = rough.root[c];
-                    let rel = rough.local_positions(c, &parents, &offsets);
+                    let rel = rough.local_positions(c, &self.parents, &self.offsets);
                     let mut positions: Vec<f32> =
                         rel.iter().flat_map(|p| p.map(|v| v as f32)).collect();
                     positions[..3].copy_from_slice(&root.map(|v| v as f32));

@@ -119,14 +119,7 @@ pub fn run(models: &Models, p: Plan, req: Request, now_ms: &dyn Fn() -> f64) -> 
             let c = models.cond.ok_or_else(|| missing("conditional network"))?;
             let mut m = c.synthesize(&req.keys, req.frames, p.variation, req.seed)?;
             let t_net = now_ms();
-            let parents: Vec<Option<usize>> = c.template.joints.iter().map(|j| j.parent).collect();
-            let offsets: Vec<[f64; 3]> = c
-                .template
-                .joints
-                .iter()
-                .map(|j| j.offset.map(|v| v as f64))
-                .collect();
-            let before = super::pipeline::key_error(&m, &req.keys, &parents, &offsets);
+            let before = super::pipeline::key_error(&m, &req.keys, &c.parents, &c.offsets);
             if req.post_process && req.keys.iter().any(super::xy::is_xy_key) {
                 // 2-D keys become rotation keys fitted to the output, then
                 // exact (poses and root positions are exact already)
@@ -135,7 +128,7 @@ pub fn run(models: &Models, p: Plan, req: Request, now_ms: &dyn Fn() -> f64) -> 
             }
             let feet = (req.foot_lock && req.post_process)
                 .then(|| lock_feet(&mut m, &c.template, &req.keys, &FootLock::default()));
-            let after = super::pipeline::key_error(&m, &req.keys, &parents, &offsets);
+            let after = super::pipeline::key_error(&m, &req.keys, &c.parents, &c.offsets);
             Ok(Served {
                 motion: m,
                 plan: p,

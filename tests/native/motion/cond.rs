@@ -132,27 +132,31 @@ fn the_conditional_network_refuses_odd_keys_and_moves_between_root_keys() {
         .collect();
     let out = m.synthesize(&keys, 121, 1.0, None).unwrap();
     let still = m.synthesize(&keys, 121, 0.0, None).unwrap();
-    let moved = (1..121)
-        .map(|t| {
-            deeprep::rotation::geodesic_distance(
-                &out.rotations[t][rotating_knee(&m)],
-                &out.rotations[t - 1][rotating_knee(&m)],
-            )
-        })
-        .sum::<f64>();
-    let held = (1..121)
-        .map(|t| {
-            deeprep::rotation::geodesic_distance(
-                &still.rotations[t][rotating_knee(&m)],
-                &still.rotations[t - 1][rotating_knee(&m)],
-            )
-        })
-        .sum::<f64>();
+    let moved = knee_turn(&m, &out, 1..121);
+    let held = knee_turn(&m, &still, 1..121);
     assert!(held < 1e-9, "variation 0 holds the prior pose: {held}");
     assert!(
         moved > 0.5,
         "the knee turns {moved} rad in total over 2 s of walking"
     );
+}
+
+/// The left knee's total rotation from frame to frame over `frames`
+/// (each frame against the one before it), radians.
+fn knee_turn(
+    m: &CondModel,
+    motion: &deeprep::motion::Motion,
+    frames: std::ops::Range<usize>,
+) -> f64 {
+    let knee = rotating_knee(m);
+    frames
+        .map(|t| {
+            deeprep::rotation::geodesic_distance(
+                &motion.rotations[t][knee],
+                &motion.rotations[t - 1][knee],
+            )
+        })
+        .sum()
 }
 
 fn rotating_knee(m: &CondModel) -> usize {
@@ -266,15 +270,7 @@ fn a_long_gap_keeps_moving() {
             assert!((o - *p as f64).abs() < 1e-3, "root at {}", k.frame);
         }
     }
-    let knee = rotating_knee(&m);
-    let turned = (401..600)
-        .map(|t| {
-            deeprep::rotation::geodesic_distance(
-                &out.rotations[t][knee],
-                &out.rotations[t - 1][knee],
-            )
-        })
-        .sum::<f64>();
+    let turned = knee_turn(&m, &out, 401..600);
     assert!(
         turned > 1.0,
         "the knee turns {turned} rad over frames 400-600"

@@ -122,6 +122,20 @@ def turn(root, quat, phi):
     return r, q
 
 
+def canonical_frame(root, quat, keys, kinds):
+    """The window's canonical frame (module docstring): the rotation C about
+    the vertical and the offset off, so that a world point p is C @ (p - off)
+    there. The first key's root x/z is removed, and its heading too when it
+    is a P key and no key is an X key."""
+    k0 = keys[0]
+    if kinds[0] == P and X not in kinds:
+        f = quat_to_mat(quat[k0, 0])[:, 2]
+        C = rot_y(-torch.atan2(f[0], f[2]))
+    else:
+        C = torch.eye(3)
+    return C, torch.stack([root[k0, 0], torch.zeros(()), root[k0, 2]])
+
+
 def features(skel, prior, root, quat, keys, kinds, noise, offsets):
     """The network's input pieces for one window. root [N,3], quat [N,K,4]
     (the truth; only key frames are read for the input), keys (sorted frame
@@ -131,14 +145,7 @@ def features(skel, prior, root, quat, keys, kinds, noise, offsets):
     n = root.shape[0]
     pk = [k for k, c in zip(keys, kinds) if c == P]
     xk = [k for k, c in zip(keys, kinds) if c in (P, X)]
-    k0 = keys[0]
-    if kinds[0] == P and X not in kinds:
-        R0 = quat_to_mat(quat[k0, 0])
-        f = R0[:, 2]
-        C = rot_y(-torch.atan2(f[0], f[2]))
-    else:
-        C = torch.eye(3)
-    off = torch.stack([root[k0, 0], torch.zeros(()), root[k0, 2]])
+    C, off = canonical_frame(root, quat, keys, kinds)
     gt_root = (root - off) @ C.T
     gt_rot = quat_to_mat(quat)
     gt_rot = torch.cat([(C @ gt_rot[:, 0]).unsqueeze(1), gt_rot[:, 1:]], 1)
@@ -636,13 +643,7 @@ def export(args):
         r_root = base_root + res.transpose(1, 2)[..., :3] * SCALE * g_root.unsqueeze(-1)
         r6 = sixd(base_rot).reshape(B, N, K, 6) + res.transpose(1, 2)[..., 3:].reshape(B, N, K, 6) *             g_rot[..., None, None]
         rot = from_sixd(r6)[0]
-        k0 = keys[0]
-        if kinds[0] == P and X not in kinds:
-            f0 = quat_to_mat(quat[k0, 0])[:, 2]
-            C = rot_y(-torch.atan2(f0[0], f0[2]))
-        else:
-            C = torch.eye(3)
-        off = torch.stack([root[k0, 0], torch.zeros(()), root[k0, 2]])
+        C, off = canonical_frame(root, quat, keys, kinds)
         w_root = r_root[0] @ C + off
         rot[:, 0] = C.T @ rot[:, 0]
         gpos = fk(skel, root[None], quat_to_mat(quat)[None], skel.offsets[None])[0]
