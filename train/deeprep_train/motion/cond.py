@@ -190,6 +190,26 @@ def sample_kinds(keys, rng):
     return [int(c) for c in rng.choice([P, R, X], size=len(keys), p=[0.3, 0.4, 0.3])]
 
 
+def fill_keys(n, rng):
+    """Every known frame of a window with gaps to fill (issue 50: captured
+    motion repaired from the frames around each gap): runs of consecutive
+    known frames (20, or 1-40 frames: one known frame after a gap up to the
+    next gap's context) between gaps of 10-180 frames (log-uniform); the
+    window starts with 20 known frames and ends with a known frame."""
+    keys, t = list(range(min(20, n))), min(20, n)
+    while t < n:
+        t += int(math.exp(rng.uniform(math.log(10), math.log(180))))
+        if t >= n - 1:
+            keys.append(n - 1)
+            break
+        run = 20 if rng.random() < 0.5 else int(rng.integers(1, 41))
+        keys.extend(range(t, min(t + run, n)))
+        t += run
+    if keys[-1] != n - 1:
+        keys.append(n - 1)
+    return keys
+
+
 def prior_pose(clips):
     """The training takes' mean local rotation per joint (quaternions [K,4],
     sign-aligned to the first frame's), the root's the identity."""
@@ -288,7 +308,7 @@ def spread(d, skel):
     return np.concatenate(chunks).std(0) + 1e-6
 
 
-def make_batch(clips, skel, prior, b, n, rng, do_mirror, device):
+def make_batch(clips, skel, prior, b, n, rng, do_mirror, device, fill_share=0.0):
     xs, gr_, gq_, br, bq, tr, tq, offs = [], [], [], [], [], [], [], []
     for _ in range(b):
         root, quat = clips.window(n, rng)
@@ -297,9 +317,13 @@ def make_batch(clips, skel, prior, b, n, rng, do_mirror, device):
             root, quat = mirror(root, quat, skel)
             off = skel.mirror_offsets
         root, quat = turn(root, quat, rng.uniform(-math.pi, math.pi))
-        # half the windows with intervals of at least 0.5 s (a root path's keys)
-        keys = sample_keys(n, rng, lo=30 if rng.random() < 0.5 else 15)
-        kinds = sample_kinds(keys, rng)
+        if rng.random() < fill_share:
+            keys = fill_keys(n, rng)
+            kinds = [P] * len(keys)
+        else:
+            # half the windows with intervals of at least 0.5 s (a root path's keys)
+            keys = sample_keys(n, rng, lo=30 if rng.random() < 0.5 else 15)
+            kinds = sample_kinds(keys, rng)
         noise = torch.from_numpy(rng.standard_normal(Z)).float()
         f = features(skel, prior, root, quat, keys, kinds, noise, off)
         for lst, v in zip((xs, gr_, gq_, br, bq, tr, tq), f):
@@ -414,7 +438,7 @@ def train(args):
         os.replace(ck + ".tmp", ck)
 
     while time.time() - t0 < args.minutes * 60:
-        batch = make_batch(clips, skel, prior, args.batch, args.frames, rng, args.mirror, dev)
+        batch = make_batch(clips, skel, prior, args.batch, args.frames, rng, args.mirror, dev, args.fill_share)
         out = losses(net, skel, batch, w, adv, args.div_tau)
         opt.zero_grad()
         out["total"].backward()
@@ -697,6 +721,9 @@ def main():
                     help="diversity-sensitive term: two noise draws per window kept apart (issue 47, item 2)")
     ap.add_argument("--div-tau", type=float, default=0.1,
                     help="cap on the rewarded output distance per unit of noise distance (positions / SCALE)")
+    ap.add_argument("--fill-share", type=float, default=0.0,
+                    help="share of windows laid out as gaps in captured motion: runs of known frames around "
+                         "gaps of 10-180 frames, every known frame a whole-pose key (issue 50)")
     ap.add_argument("--save-every", type=int, default=250)
     ap.add_argument("--snapshot-every", type=int, default=1000)
     ap.add_argument("--split", default="train")
