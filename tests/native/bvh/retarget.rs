@@ -163,6 +163,106 @@ fn bones_point_where_the_source_bones_point() {
     assert!(r.scale > 4.0 && r.scale < 7.0, "scale {}", r.scale);
 }
 
+/// A rig shaped like the CC0 RobotExpressive glTF's as `deeprep/three.js`
+/// writes it (names `UpperLeg.L`, `LowerArm.R`; the joint named `Hips`
+/// carries only the spine while the legs hang from its parent `Body`; palms
+/// instead of a hand; an IK pole target beside the body under the root).
+fn robot_like() -> Bvh {
+    let rot = "CHANNELS 3 Zrotation Xrotation Yrotation";
+    let j = |name: &str, o: [f32; 3], body: &str| {
+        format!(
+            "JOINT {name}\n{{\nOFFSET {} {} {}\n{rot}\n{body}}}\n",
+            o[0], o[1], o[2]
+        )
+    };
+    let end = |o: [f32; 3]| format!("End Site\n{{\nOFFSET {} {} {}\n}}\n", o[0], o[1], o[2]);
+    let mut legs = String::new();
+    let mut arms = String::new();
+    for (s, x) in [("L", 1.0f32), ("R", -1.0)] {
+        let foot = j(
+            &format!("Foot.{s}"),
+            [0.0, -0.9, -0.3],
+            &end([0.0, 0.0, 0.3]),
+        );
+        legs += &j(
+            &format!("UpperLeg.{s}"),
+            [0.6 * x, 0.1, -0.2],
+            &j(&format!("LowerLeg.{s}"), [0.05 * x, -0.6, 0.2], &foot),
+        );
+        let palm = |k: u8| {
+            j(
+                &format!("Palm{k}.{s}"),
+                [0.4 * x, -0.8, 0.9],
+                &end([0.0, -0.2, 0.0]),
+            )
+        };
+        arms += &j(
+            &format!("Shoulder.{s}"),
+            [0.3 * x, 0.6, 0.0],
+            &j(
+                &format!("UpperArm.{s}"),
+                [0.3 * x, 0.0, 0.0],
+                &j(
+                    &format!("LowerArm.{s}"),
+                    [0.3 * x, -0.6, -0.1],
+                    &(palm(2) + &palm(1)),
+                ),
+            ),
+        );
+    }
+    let torso = j(
+        "Torso",
+        [0.0, 0.5, 0.0],
+        &(j(
+            "Neck",
+            [0.0, 0.6, 0.0],
+            &j("Head", [0.0, 0.3, 0.0], &end([0.0, 1.1, 0.0])),
+        ) + &arms),
+    );
+    let body = j(
+        "Body",
+        [0.0, 1.37, 0.1],
+        &(j(
+            "Hips",
+            [0.0, -0.1, -0.1],
+            &j("Abdomen", [0.0, 0.4, 0.0], &torso),
+        ) + &legs),
+    );
+    let pole = j("PoleTarget.L", [0.9, 1.0, 1.5], &end([0.0, 0.3, 0.0]));
+    let text = format!(
+        "HIERARCHY\nROOT Bone\n{{\nOFFSET 0 0 0\nCHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n{body}{pole}}}\nMOTION\nFrames: 0\nFrame Time: 0.0333333\n"
+    );
+    Bvh::parse(&text).unwrap()
+}
+
+#[test]
+fn a_robot_rig_maps_with_its_hips_above_the_joint_named_hips() {
+    let robot = robot_like();
+    let m = find_roles(&robot).unwrap().names(&robot);
+    assert_eq!(m["hips"], "Body", "both legs hang from Body");
+    assert_eq!(m["spine"], "Hips");
+    assert_eq!(m["chest"], "Torso");
+    assert_eq!(m["leftCollar"], "Shoulder.L");
+    assert_eq!(m["leftUpperArm"], "UpperArm.L");
+    assert_eq!(
+        m["rightHand"], "Palm2.R",
+        "the nearest palm stands for the hand"
+    );
+    assert_eq!(m["leftThigh"], "UpperLeg.L");
+    assert_eq!(m["rightFoot"], "Foot.R");
+    assert!(!m.values().any(|j| j.starts_with("PoleTarget")));
+    // and motion goes there and back: the model's rest onto the robot points its bones alike
+    let model = model();
+    let clip = model_motion(20);
+    let there = Retarget::between(&model, &robot, &BTreeMap::new()).unwrap();
+    let on_robot = there.clip(&clip, &robot, None).unwrap();
+    let back = Retarget::between(&robot, &model, &BTreeMap::new()).unwrap();
+    let again = back.clip(&on_robot, &model, Some(&clip)).unwrap();
+    let joints = mapped_model_joints(&back);
+    let err = mean_position_error(&clip, &again, &joints).unwrap();
+    assert!(err < 1.0, "round trip through the robot rig: {err} units");
+}
+
 #[test]
 fn skeletons_that_are_not_humanoids_get_errors_naming_the_missing_bones() {
     let chain = Bvh::parse("HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 3 Xposition Yposition Zposition\nJOINT b\n{\nOFFSET 0 1 0\nCHANNELS 3 Zrotation Xrotation Yrotation\nEnd Site\n{\nOFFSET 0 1 0\n}\n}\n}\nMOTION\nFrames: 1\nFrame Time: 0.01\n0 0 0 0 0 0\n").unwrap();

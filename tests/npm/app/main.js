@@ -2,13 +2,16 @@
 // the packed tarball and run in headless Chromium (tests/npm/run_dist.mjs):
 // DeeprepClient.create() with no arguments (the models shipped in the
 // package), a BVH parsed in the worker, a synthesis, a 120 fps clip
-// in-betweened, the three.js helper against BVHLoader, and a coded error.
+// in-betweened, the three.js helper against BVHLoader, a glTF character's clip
+// in-betweened on its own skeleton (the CC0 robot, when ../shared is there),
+// and a coded error.
 // It sets body[data-done], or body[data-error] with the reason.
 import init, { convertRotations, BvhClip, version } from 'deeprep';
 import { DeeprepClient } from 'deeprep/client.js';
-import { toThree } from 'deeprep/three.js';
-import { AnimationMixer, Quaternion } from 'three';
+import { Character, toThree } from 'deeprep/three.js';
+import { AnimationMixer, LoopOnce, Quaternion, Vector3 } from 'three';
 import { BVHLoader } from 'three/examples/jsm/loaders/BVHLoader.js';
+import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 try {
   // when each start-up stage began (ms from navigation), for the bench
   const stageAt = {};
@@ -139,6 +142,46 @@ try {
     if (out.frames !== n) throw new Error(`synthesizeFromBvh on ${cfg.clip}: ${out.frames} frames, the clip has ${n}`);
     cmu = `CMU ${cfg.clip} (${n} frames) in-betweened`;
   }
+  // your own character (issue 53): the CC0 robot's glTF Walking clip, keys at three of its
+  // frames, in-betweened on the model's skeleton and back onto the robot's, played on the
+  // robot by AnimationMixer: at the keys the bones are where the robot's own clip puts them,
+  // between them the limbs move
+  let robot = 'no glTF robot (../shared absent)';
+  if (cfg.robot) {
+    const gltf = await new GLTFLoader().loadAsync(cfg.robot);
+    const character = new Character(gltf.scene);
+    const walk = gltf.animations.find((a) => a.name === 'Walking');
+    const out = await client.synthesizeFromBvh(character.toBvh(walk, { fps: 30 }), { keys: [0, 14, 28] });
+    if (out.frames !== 29 || !/ROOT Bone/.test(out.bvh)) {
+      throw new Error(`the robot: ${out.frames} frames, ${out.bvh.slice(0, 40)}`);
+    }
+    const played = character.clipFrom(out, { name: 'walk, in-betweened' });
+    const at = (clip, frames) => {
+      const mixer = new AnimationMixer(gltf.scene);
+      const action = mixer.clipAction(clip);
+      action.setLoop(LoopOnce, 1);
+      action.clampWhenFinished = true;
+      action.play();
+      const poses = frames.map((f) => {
+        mixer.setTime(f / 30);
+        gltf.scene.updateMatrixWorld(true);
+        return character.bones.map((b) => b.getWorldPosition(new Vector3()));
+      });
+      action.stop();
+      return poses;
+    };
+    const frames = [0, 7, 14, 21, 28];
+    const [theirs, ours] = [at(walk, frames), at(played, frames)];
+    character.rest();
+    let keyGap = 0;
+    for (const k of [0, 2, 4]) theirs[k].forEach((p, i) => { keyGap = Math.max(keyGap, p.distanceTo(ours[k][i])); });
+    // the robot stands about 4 units tall: within 2e-3 of the robot's own clip at the keys
+    if (!(keyGap < 2e-3)) throw new Error(`the robot at its keys: ${keyGap} from its own clip`);
+    const hand = character.names.indexOf('Palm2.L');
+    const swing = ours[1][hand].distanceTo(ours[0][hand]) + ours[3][hand].distanceTo(ours[2][hand]);
+    if (!(swing > 0.05)) throw new Error(`the robot's hand moves ${swing} between its keys`);
+    robot = `the glTF robot's Walking in-betweened on its own skeleton (${character.bones.length} bones, keys within ${keyGap.toExponential(1)}, the hand swings ${swing.toFixed(2)})`;
+  }
   // keys of other kinds (issue 20): a path of root-only keys after a whole pose; the
   // output's root passes through each, and a bad key is an error that names it
   const path = [[0, 56, 0], [40, 56, 60], [100, 56, 90]];
@@ -160,7 +203,7 @@ try {
   let code = null;
   await client.importBvh(new TextEncoder().encode('HIERARCHY\nnot a bvh')).catch((e) => { code = e.code; });
   if (r.frames !== 60 || clip.frameCount !== 2 || code !== 'E_BAD_BVH') throw new Error(`unexpected: ${r.frames} ${clip.frameCount} ${code}`);
-  document.getElementById('out').textContent = `deeprep ${version()} 6d ${Array.from(sixd)}; synthesized ${r.frames} frames; a 120 fps clip in-betweened (${fromClip.frames} frames), also on another skeleton, and a gap filled; ${cmu}; three.js: ${compared} tracks as BVHLoader's (max difference ${worst.toExponential(1)}), played; root-only keys hit; a 1,500-frame gap via critical keys at ${longGap.criticalFrames.join(', ')}; bad BVH -> ${code}; missing models -> ${missing}; abort -> ${aborted}, then ${after.frames} frames; worker wasm ${client.wasm}, within ${gap.toExponential(1)} of simd128`;
+  document.getElementById('out').textContent = `deeprep ${version()} 6d ${Array.from(sixd)}; synthesized ${r.frames} frames; a 120 fps clip in-betweened (${fromClip.frames} frames), also on another skeleton, and a gap filled; ${cmu}; ${robot}; three.js: ${compared} tracks as BVHLoader's (max difference ${worst.toExponential(1)}), played; root-only keys hit; a 1,500-frame gap via critical keys at ${longGap.criticalFrames.join(', ')}; bad BVH -> ${code}; missing models -> ${missing}; abort -> ${aborted}, then ${after.frames} frames; worker wasm ${client.wasm}, within ${gap.toExponential(1)} of simd128`;
   document.body.dataset.done = '1';
 } catch (e) {
   document.body.dataset.error = `${e.code || ''} ${e.message}`;

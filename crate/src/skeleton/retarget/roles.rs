@@ -176,7 +176,7 @@ fn split_name(name: &str) -> (Option<Side>, String) {
 const HIPS: &[&str] = &["hips", "hip", "pelvis"];
 const HEAD: &[&str] = &["head"];
 const FOREARM: &[&str] = &["forearm", "lowerarm", "elbow"];
-const HAND: &[&str] = &["hand", "wrist"];
+const HAND: &[&str] = &["hand", "wrist", "palm"];
 const SHIN: &[&str] = &["shin", "leg", "knee", "calf", "lowerleg"];
 const FOOT: &[&str] = &["foot", "ankle"];
 const TOE: &[&str] = &["toe", "toebase", "toes"];
@@ -187,7 +187,7 @@ fn examples(role: Role) -> &'static str {
         Role::Hips => "hip, Hips, CC_Base_Hip, pelvis",
         Role::Head => "head, Head",
         Role::ForeArm(_) => "lForeArm, LeftForeArm, LeftElbow, L_Forearm, leftLowerArm",
-        Role::Hand(_) => "lHand, LeftHand, LeftWrist",
+        Role::Hand(_) => "lHand, LeftHand, LeftWrist, Palm.L",
         Role::Shin(_) => "lShin, LeftLeg, LeftKnee, L_Calf, leftLowerLeg",
         Role::Foot(_) => "lFoot, LeftFoot, LeftAnkle",
         Role::UpperArm(_) => "the parent of the forearm",
@@ -221,7 +221,7 @@ fn child_towards(bvh: &Bvh, top: usize, j: usize) -> Option<usize> {
 }
 
 /// The nearest joint below `top` (breadth-first) whose name has `side` and
-/// one of `bases`, End Sites excluded.
+/// one of `bases`, possibly numbered (`Palm2.L`), End Sites excluded.
 fn find_below(bvh: &Bvh, top: usize, side: Option<Side>, bases: &[&str]) -> Option<usize> {
     let children = bvh.children();
     let mut queue = std::collections::VecDeque::from(children[top].clone());
@@ -229,7 +229,8 @@ fn find_below(bvh: &Bvh, top: usize, side: Option<Side>, bases: &[&str]) -> Opti
         let joint = &bvh.joints[j];
         if !joint.end_site {
             let (s, b) = split_name(&joint.name);
-            if s == side && bases.contains(&b.as_str()) {
+            let b = b.trim_end_matches(|c: char| c.is_ascii_digit());
+            if s == side && bases.contains(&b) {
                 return Some(j);
             }
         }
@@ -367,6 +368,23 @@ impl RoleMap {
                 },
                 &mut found,
             );
+        }
+        // A rig whose joint named hips carries only the spine (the legs hang
+        // from its parent, as in RobotExpressive's `Body`): the hips are the
+        // nearest joint above it that both legs hang from.
+        if !given.contains_key(&Role::Hips) {
+            if let (Some(&h), Some(&l), Some(&r)) = (
+                found.get(&Role::Hips),
+                found.get(&Role::Shin(Side::Left)),
+                found.get(&Role::Shin(Side::Right)),
+            ) {
+                if let Some(k) = ancestors(bvh, h)
+                    .into_iter()
+                    .find(|&k| is_ancestor(bvh, k, l) && is_ancestor(bvh, k, r))
+                {
+                    found.insert(Role::Hips, k);
+                }
+            }
         }
         get(
             Role::Chest,
