@@ -49,7 +49,7 @@ def cli() -> str:
     for p in ("target/release/deeprep", "target/debug/deeprep"):
         if os.path.exists(os.path.join(ROOT, p)):
             return os.path.join(ROOT, p)
-    sys.exit("build the CLI first: cargo build --bin deeprep")
+    sys.exit("build the CLI first: cargo build --release --bin deeprep")
 
 
 def export(path: str, tmp: str):

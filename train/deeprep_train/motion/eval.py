@@ -50,7 +50,7 @@ import numpy as np
 
 from deeprep_train.bvh import axis_rot, fk_from_local, global_fk, local_fk, mat_to_quat, read_bvh, resample  # noqa: E402,F401
 from deeprep_train.motion.dna import representative_frames_of_clip  # noqa: E402
-from deeprep_train.motion.data import DATA, TRUE_FPS, VALIDATION, take_of  # noqa: E402
+from deeprep_train.motion.data import DATA, TRUE_FPS, VALIDATION, cli, take_of  # noqa: E402
 
 from deeprep_train.paths import ROOT, CACHE  # noqa: E402
 # Methods: "zerovel", "slerp", "model" (CLI defaults), and the names below.
@@ -159,13 +159,6 @@ def parse_args(argv=None):
 
 
 FEET = ["lFoot", "rFoot", "lFoot_Nub", "rFoot_Nub"]
-
-
-def cli():
-    for p in ("target/release/deeprep", "target/debug/deeprep"):
-        if os.path.exists(os.path.join(ROOT, p)):
-            return os.path.join(ROOT, p)
-    sys.exit("build the CLI first: cargo build --release --bin deeprep")
 
 
 def accel(pos):
