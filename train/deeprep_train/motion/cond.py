@@ -136,7 +136,77 @@ def canonical_frame(root, quat, keys, kinds):
     return C, torch.stack([root[k0, 0], torch.zeros(()), root[k0, 2]])
 
 
-def features(skel, prior, root, quat, keys, kinds, noise, offsets):
+def context_spans(keys, kinds):
+    """Gaps with context (issue 50): consecutive keys a < b - 1, both whole
+    poses, with a whole pose at a - 1 or at b + 1. Returns (a, b, prev,
+    next), prev / next None where that frame is not a whole-pose key."""
+    pose = {k for k, c in zip(keys, kinds) if c == P}
+    out = []
+    for (a, ca), (b, cb) in zip(zip(keys, kinds), zip(keys[1:], kinds[1:])):
+        if ca == P and cb == P and b > a + 1:
+            p = a - 1 if a - 1 in pose else None
+            q = b + 1 if b + 1 in pose else None
+            if p is not None or q is not None:
+                out.append((a, b, p, q))
+    return out
+
+
+def _qmul(a, b):
+    aw, ax, ay, az = a.unbind(-1)
+    bw, bx, by, bz = b.unbind(-1)
+    return torch.stack([aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
+                        aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw], -1)
+
+
+def _qconj(q):
+    return q * torch.tensor([1.0, -1.0, -1.0, -1.0], dtype=q.dtype)
+
+
+def _step(x, y):
+    """The rotation from x to y as a scaled axis (the short arc), [..., 3]."""
+    y = torch.where((x * y).sum(-1, keepdim=True) < 0, -y, y)
+    d = _qmul(_qconj(x), y)
+    d = d / d.norm(dim=-1, keepdim=True)
+    v = d[..., 1:]
+    sv = v.norm(dim=-1, keepdim=True)
+    angle = 2 * torch.atan2(sv, d[..., :1].clamp(min=0))
+    return torch.where(sv > 1e-12, v / sv.clamp(min=1e-12) * angle, 2 * v)
+
+
+def _exp(w):
+    """Scaled axis [..., 3] -> unit quaternion [..., 4]."""
+    a = w.norm(dim=-1, keepdim=True)
+    k = torch.where(a > 1e-12, torch.sin(a / 2) / a.clamp(min=1e-12), 0.5 - a * a / 48)
+    return torch.cat([torch.cos(a / 2), w * k], -1)
+
+
+def hermite_base(spans, root, quat, base_root, base_q):
+    """motion::fill::hermite's context-tangent curve on each span of
+    `context_spans`, written over base_root [N,3] and base_q [N,K,4] (in
+    place): the root and every joint's rotation from a to b with the
+    context's velocities as end tangents (the chord's where one side has
+    no context frame). root [N,3] and quat [N,K,4] the truth (key frames
+    only are read), root in the frame base_root is in."""
+    for a, b, p, q in spans:
+        n = float(b - a)
+        u = torch.arange(1, b - a, dtype=root.dtype) / n
+        h00, h10, h01, h11 = (2 * u ** 3 - 3 * u ** 2 + 1, u ** 3 - 2 * u ** 2 + u, -2 * u ** 3 + 3 * u ** 2, u ** 3 - u ** 2)
+        pa, pb = root[a], root[b]
+        chord = (pb - pa) / n
+        va = pa - root[p] if p is not None else chord
+        vb = root[q] - pb if q is not None else chord
+        base_root[a + 1:b] = (h00[:, None] * pa + (n * h10)[:, None] * va + h01[:, None] * pb
+                              + (n * h11)[:, None] * vb)
+        qa, qb = quat[a], quat[b]
+        w1 = _step(qa, qb)
+        t0 = _step(quat[p], qa) if p is not None else w1 / n
+        t1 = _step(qb, quat[q]) if q is not None else w1 / n
+        w = ((n * h10)[:, None, None] * t0 + h01[:, None, None] * w1 + (n * h11)[:, None, None] * t1)
+        r = _qmul(qa.expand(len(u), -1, -1), _exp(w))
+        base_q[a + 1:b] = r / r.norm(dim=-1, keepdim=True)
+
+
+def features(skel, prior, root, quat, keys, kinds, noise, offsets, context_base=False):
     """The network's input pieces for one window. root [N,3], quat [N,K,4]
     (the truth; only key frames are read for the input), keys (sorted frame
     indices), kinds (P/R/X per key), noise [Z], offsets [J,3]. Returns
@@ -154,6 +224,8 @@ def features(skel, prior, root, quat, keys, kinds, noise, offsets):
     ph_p, a, b = group_phase(pk, n)
     if pk:
         base_q = slerp(quat[a], quat[b], ph_p[:, :1].expand(-1, quat.shape[1]))
+        if context_base:
+            hermite_base(context_spans(keys, kinds), gt_root, quat, base_root, base_q)
         base_rot = quat_to_mat(base_q)
         base_rot = torch.cat([(C @ base_rot[:, 0]).unsqueeze(1), base_rot[:, 1:]], 1)
         gate_rot = ph_p[:, 3]
@@ -227,10 +299,12 @@ class CondTween(nn.Module):
     """[B, 3 + 6K + 4 + extra, N] -> residual [B, 3 + 6K, N]: the whole-pose
     network's blocks with a wider input convolution (and skip)."""
 
-    def __init__(self, K, J, width, dilations, stride=1, skip=False):
+    def __init__(self, K, J, width, dilations, stride=1, skip=False, context_base=False):
         super().__init__()
         self.core = ResidualTween(K, width, dilations, stride, skip)
         self.K, self.J = K, J
+        # the base over gaps with context frames: motion::fill's Hermite curve (issue 50)
+        self.context_base = bool(context_base)
         cin = 3 + 6 * K + 4 + extra_channels(J)
         old = self.core.inp
         self.core.inp = nn.Conv1d(cin, width, 3, padding=1, stride=stride)
@@ -247,7 +321,7 @@ class CondTween(nn.Module):
         return self.core(x)
 
     def arch(self):
-        return {**self.core.arch(), "J": self.J, "Z": Z}
+        return {**self.core.arch(), "J": self.J, "Z": Z, "context_base": int(self.context_base)}
 
 
 def widen(state, cin):
@@ -267,7 +341,8 @@ def widen(state, cin):
 
 def build(s):
     a = arch(s)
-    return CondTween(a["K"], int(s["J"]), a["width"], a["dilations"], a["stride"], a["skip"])
+    return CondTween(a["K"], int(s["J"]), a["width"], a["dilations"], a["stride"], a["skip"],
+                     bool(s.get("context_base", 0)))
 
 
 def load_ema(path, device="cpu"):
@@ -308,7 +383,7 @@ def spread(d, skel):
     return np.concatenate(chunks).std(0) + 1e-6
 
 
-def make_batch(clips, skel, prior, b, n, rng, do_mirror, device, fill_share=0.0):
+def make_batch(clips, skel, prior, b, n, rng, do_mirror, device, fill_share=0.0, context_base=False):
     xs, gr_, gq_, br, bq, tr, tq, offs = [], [], [], [], [], [], [], []
     for _ in range(b):
         root, quat = clips.window(n, rng)
@@ -325,7 +400,7 @@ def make_batch(clips, skel, prior, b, n, rng, do_mirror, device, fill_share=0.0)
             keys = sample_keys(n, rng, lo=30 if rng.random() < 0.5 else 15)
             kinds = sample_kinds(keys, rng)
         noise = torch.from_numpy(rng.standard_normal(Z)).float()
-        f = features(skel, prior, root, quat, keys, kinds, noise, off)
+        f = features(skel, prior, root, quat, keys, kinds, noise, off, context_base)
         for lst, v in zip((xs, gr_, gq_, br, bq, tr, tq), f):
             lst.append(v)
         offs.append(off)
@@ -409,6 +484,11 @@ def train(args):
               "new input channels at zero)", flush=True)
     else:
         raise SystemExit("train needs --init WHOLE_POSE_CHECKPOINT or --resume")
+    if args.context_base >= 0:
+        if bool(args.context_base) != net.context_base:
+            print(f"the base over gaps with context: {'Hermite' if args.context_base else 'SLERP+LERP'} from now on",
+                  flush=True)
+        net.context_base = ema.context_base = bool(args.context_base)
     net.to(dev)
     ema.to(dev)
     opt = torch.optim.Adam(net.parameters(), lr=args.lr)
@@ -438,7 +518,8 @@ def train(args):
         os.replace(ck + ".tmp", ck)
 
     while time.time() - t0 < args.minutes * 60:
-        batch = make_batch(clips, skel, prior, args.batch, args.frames, rng, args.mirror, dev, args.fill_share)
+        batch = make_batch(clips, skel, prior, args.batch, args.frames, rng, args.mirror, dev, args.fill_share,
+                           net.context_base)
         out = losses(net, skel, batch, w, adv, args.div_tau)
         opt.zero_grad()
         out["total"].backward()
@@ -499,7 +580,7 @@ def evaluate(args):
             for s0 in range(0, int(clips.lens[si]) - n + 1, 2 * g):
                 root = clips.root[a0 + s0:a0 + s0 + n]
                 quat = clips.quat[a0 + s0:a0 + s0 + n]
-                f = features(skel, prior, root, quat, keys, [kind] * 3, noise, skel.offsets)
+                f = features(skel, prior, root, quat, keys, [kind] * 3, noise, skel.offsets, net.context_base)
                 x, g_root, g_rot, base_root, base_rot, gt_root, gt_rot = [v.unsqueeze(0) for v in f]
                 offs = skel.offsets.unsqueeze(0)
                 with torch.no_grad():
@@ -558,7 +639,8 @@ def portable(args):
     half = {k: {n: v.half() for n, v in s[k].items()} for k in ("net", "ema")}
     to = args.to or PORTABLE
     os.makedirs(os.path.dirname(os.path.abspath(to)), exist_ok=True)
-    torch.save({**half, "step": s["step"], "prior": s["prior"], **arch(s), "J": s["J"], "Z": s["Z"]}, to)
+    torch.save({**half, "step": s["step"], "prior": s["prior"], **arch(s), "J": s["J"], "Z": s["Z"],
+                "context_base": int(s.get("context_base", 0))}, to)
     print(f"wrote {to} (step {s['step']}, {os.path.getsize(to) / 1e6:.1f} MB)")
 
 
@@ -572,6 +654,9 @@ FIXTURE_CASES = [
     (41, [0, 17, 40], [R, R, R]),
     (41, [0, 25, 40], [X, P, R]),
     (47, [4, 22, 40], [R, X, R]),
+    # a gap with context (issue 50): three whole poses before it, one after;
+    # motion::fill's Hermite base where the manifest's context_base says so
+    (41, [0, 1, 2, 30, 31, 40], [P, P, P, P, R, P]),
 ]
 
 
@@ -615,7 +700,7 @@ def export(args):
         return clips.root[a:a + n], clips.quat[a:a + n]
 
     n0, keys0, kinds0 = FIXTURE_CASES[2]
-    f = features(skel, prior, *window(2, n0), keys0, kinds0, noise, skel.offsets)
+    f = features(skel, prior, *window(2, n0), keys0, kinds0, noise, skel.offsets, net.context_base)
     x = f[0].unsqueeze(0)
     torch.onnx.export(net, (x,), path, input_names=["x"], output_names=["residual"], opset_version=17,
                       dynamic_axes={"x": {2: "frames"}, "residual": {2: "frames"}}, dynamo=False)
@@ -651,6 +736,7 @@ def export(args):
         "training_code_commit": git_commit(),
         "exporter": {"torch": torch.__version__, "onnxruntime": ort.__version__, "opset": 17},
         "default_for_partial_keys": bool(args.default_for_partial_keys),
+        "context_base": "hermite" if net.context_base else "slerp",
         "captured_joint_speed": captured_speed(skel, clips),
     })
     convert("tween_cond")
@@ -659,7 +745,7 @@ def export(args):
     cases = []
     for ci, (n, keys, kinds) in enumerate(FIXTURE_CASES):
         root, quat = window(ci, n)
-        f = features(skel, prior, root, quat, keys, kinds, noise, skel.offsets)
+        f = features(skel, prior, root, quat, keys, kinds, noise, skel.offsets, net.context_base)
         xin, g_root, g_rot, base_root, base_rot = [v.unsqueeze(0) for v in f[:5]]
         res = torch.from_numpy(sess.run(None, {"x": xin.numpy()})[0])
         # apply() with the exported network's output, then back to the world
@@ -724,6 +810,9 @@ def main():
     ap.add_argument("--fill-share", type=float, default=0.0,
                     help="share of windows laid out as gaps in captured motion: runs of known frames around "
                          "gaps of 10-180 frames, every known frame a whole-pose key (issue 50)")
+    ap.add_argument("--context-base", type=int, default=-1,
+                    help="1: over gaps with a whole-pose context frame, motion::fill's context-tangent Hermite curve "
+                         "as the base (0: SLERP+LERP; default: the checkpoint's)")
     ap.add_argument("--save-every", type=int, default=250)
     ap.add_argument("--snapshot-every", type=int, default=1000)
     ap.add_argument("--split", default="train")
