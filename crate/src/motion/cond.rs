@@ -87,6 +87,36 @@ struct Manifest {
     /// Whether `method: model` runs this network for root-only and 2-D keys.
     #[serde(default)]
     default_for_partial_keys: bool,
+    /// The base over gaps with a whole-pose context frame: "slerp" (the
+    /// default) or "hermite" ([`crate::motion::fill::hermite_curve`]).
+    #[serde(default)]
+    context_base: Option<String>,
+}
+
+/// Gaps with context (issue 50; `cond.py`'s `context_spans`): consecutive
+/// keys `i`, `i + 1`, both whole poses, more than a frame apart, with a
+/// whole-pose key on the frame before the first or after the second.
+/// Returns (i, i + 1, the key before, the key after) as key indices.
+pub fn context_spans(
+    keys: &[Keyframe],
+    classes: &[KeyClass],
+) -> Vec<(usize, usize, Option<usize>, Option<usize>)> {
+    let pose_at = |i: usize, frame: usize| {
+        (classes[i] == KeyClass::Pose && keys[i].frame == frame).then_some(i)
+    };
+    (0..keys.len().saturating_sub(1))
+        .filter_map(|i| {
+            let (a, b) = (keys[i].frame, keys[i + 1].frame);
+            if classes[i] != KeyClass::Pose || classes[i + 1] != KeyClass::Pose || b <= a + 1 {
+                return None;
+            }
+            let prev = i.checked_sub(1).and_then(|k| pose_at(k, a.wrapping_sub(1)));
+            let next = (i + 2 < keys.len())
+                .then(|| pose_at(i + 2, b + 1))
+                .flatten();
+            (prev.is_some() || next.is_some()).then_some((i, i + 1, prev, next))
+        })
+        .collect()
 }
 
 /// What the request planner needs of the conditional network.
@@ -123,15 +153,16 @@ pub const CRITICAL_SPACING: usize = 240;
 /// The network itself (with the runtime).
 #[cfg(feature = "onnx")]
 mod model {
-    use super::{classify, CondInfo, KeyClass, Manifest};
+    use super::{classify, context_spans, CondInfo, KeyClass, Manifest};
     use super::{COARSE_GAP, CRITICAL_SPACING, HIER_GAP};
     use crate::error::{Error, Result};
     use crate::motion::baseline::slerp_lerp;
     use crate::motion::residual::{apply, from_sixd, mul, rot_y, sixd, transpose, V3};
-    use crate::motion::{Keyframe, Motion};
-    use crate::rotation::Mat3;
+    use crate::motion::{fill, Keyframe, Motion};
+    use crate::rotation::{from_glam_f64, Mat3};
     use crate::runtime::{Model, TensorF32};
     use crate::skeleton::Bvh;
+    use glam::{DMat3, DQuat, DVec3};
 
     /// The conditional in-betweening network with its skeleton.
     pub struct CondModel {
@@ -153,6 +184,8 @@ mod model {
         pub default_variation: f32,
         /// Whether `method: model` runs it for root-only and 2-D keys.
         pub default_for_partial_keys: bool,
+        /// Whether its base over gaps with context is the Hermite curve.
+        context_base: bool,
     }
 
     /// Per frame of a group of keys: (s, frames since the previous key / P,
@@ -240,6 +273,15 @@ mod model {
             }
             let default_variation = m.variation.unwrap_or(1.0);
             crate::motion::check_variation(default_variation).map_err(|e| bad(e.to_string()))?;
+            let context_base = match m.context_base.as_deref() {
+                None | Some("slerp") => false,
+                Some("hermite") => true,
+                Some(other) => {
+                    return Err(bad(format!(
+                        "context_base '{other}', expected 'slerp' or 'hermite'"
+                    )))
+                }
+            };
             let prior = m
                 .prior
                 .iter()
@@ -264,6 +306,7 @@ mod model {
                 prior,
                 default_variation,
                 default_for_partial_keys: m.default_for_partial_keys,
+                context_base,
             })
         }
 
@@ -287,6 +330,57 @@ mod model {
                 variation: self.default_variation,
                 default_for_partial_keys: self.default_for_partial_keys,
             }
+        }
+
+        /// Over each gap with context ([`context_spans`]), the base root
+        /// (`roots`: the keys' roots in the canonical frame) and rotations
+        /// (the root's turned by `c`) on [`fill::hermite_curve`].
+        fn hermite_base(
+            &self,
+            keys: &[Keyframe],
+            classes: &[KeyClass],
+            roots: &[V3],
+            c: &Mat3<f64>,
+            base_root: &mut [V3],
+            base_rot: &mut [Vec<Mat3<f64>>],
+        ) -> Result<()> {
+            let quats = |i: usize| -> Result<Vec<DQuat>> {
+                Ok(keys[i]
+                    .rotations
+                    .as_ref()
+                    .ok_or_else(|| Error::Invalid(format!("key {i} is a pose without rotations")))?
+                    .iter()
+                    .map(fill::quat)
+                    .collect())
+            };
+            for (a, b, p, q) in context_spans(keys, classes) {
+                let (fa, fb) = (keys[a].frame, keys[b].frame);
+                if fb > base_root.len() {
+                    continue;
+                }
+                let (qa, qb) = (quats(a)?, quats(b)?);
+                let qp = p.map(quats).transpose()?;
+                let qn = q.map(quats).transpose()?;
+                let v = |i: usize| DVec3::from_array(roots[i]);
+                let ends = fill::HermiteEnds {
+                    root: [v(a), v(b)],
+                    rot: [&qa, &qb],
+                    prev: p.zip(qp.as_deref()).map(|(i, r)| (v(i), r)),
+                    next: q.zip(qn.as_deref()).map(|(i, r)| (v(i), r)),
+                };
+                for (k, (root, rot)) in fill::hermite_curve(&ends, fb - fa).into_iter().enumerate()
+                {
+                    let t = fa + 1 + k;
+                    base_root[t] = root.to_array();
+                    let mut r: Vec<Mat3<f64>> = rot
+                        .iter()
+                        .map(|q| from_glam_f64(&DMat3::from_quat(*q)))
+                        .collect();
+                    r[0] = mul(c, &r[0]);
+                    base_rot[t] = r;
+                }
+            }
+            Ok(())
         }
 
         fn input_channels(&self) -> usize {
@@ -436,7 +530,7 @@ mod model {
             let ph_p = group_phase(&frames_of(&pk), n, gf, pf);
             let ph_x = group_phase(&frames_of(&xk), n, gf, pf);
             let roots: Vec<V3> = keys.iter().map(canon_root).collect();
-            let base_root: Vec<V3> = (0..n)
+            let mut base_root: Vec<V3> = (0..n)
                 .map(|t| {
                     let (a, b) = ph_all.ab[t];
                     let s = ph_all.ph[t][0];
@@ -459,6 +553,9 @@ mod model {
                 }
                 r
             };
+            if self.context_base {
+                self.hermite_base(keys, &classes, &roots, &c, &mut base_root, &mut base_rot)?;
+            }
             let gate_rot: Vec<f64> = if pk.is_empty() {
                 vec![1.0; n]
             } else {

@@ -237,16 +237,74 @@ fn basis(u: f64) -> [f64; 4] {
     ]
 }
 
-fn quat(m: &Mat3<f64>) -> DQuat {
+/// A rotation matrix as a unit quaternion.
+pub(crate) fn quat(m: &Mat3<f64>) -> DQuat {
     DQuat::from_mat3(&to_glam_f64(m)).normalize()
 }
 
+/// The ends of a gap for [`hermite_curve`]: the root position and every
+/// joint's rotation at the frame before the gap (`a`) and after it (`b`),
+/// and at the context frames beside them (`a - 1`, `b + 1`) where known.
+pub struct HermiteEnds<'a> {
+    /// Root positions at `a` and `b`.
+    pub root: [DVec3; 2],
+    /// Rotations at `a` and `b`.
+    pub rot: [&'a [DQuat]; 2],
+    /// Root and rotations at `a - 1`.
+    pub prev: Option<(DVec3, &'a [DQuat])>,
+    /// Root and rotations at `b + 1`.
+    pub next: Option<(DVec3, &'a [DQuat])>,
+}
+
+/// The context-tangent Hermite curve over a gap of `n = b - a` frames: the
+/// root and each rotation at frames `a + 1 .. b` (n - 1 of them). The end
+/// tangents are the context's velocities, the step from `a - 1` to `a` and
+/// from `b` to `b + 1`, or the chord (the mean velocity across the gap)
+/// where that frame is not known; per coordinate for the root, in the
+/// tangent space of the rotation at `a` for each joint. `train/.../cond.py`'s
+/// `hermite_base` is its twin (the conditional network's base over gaps
+/// with context).
+pub fn hermite_curve(e: &HermiteEnds, n: usize) -> Vec<(DVec3, Vec<DQuat>)> {
+    let nf = n as f64;
+    let [pa, pb] = e.root;
+    let chord = (pb - pa) / nf;
+    let va = e.prev.map_or(chord, |(p, _)| pa - p);
+    let vb = e.next.map_or(chord, |(q, _)| q - pb);
+    let [qa, qb] = e.rot;
+    let step = |x: DQuat, y: DQuat| {
+        let y = if x.dot(y) < 0.0 { -y } else { y };
+        (x.inverse() * y).normalize().to_scaled_axis()
+    };
+    // per joint, in the tangent space at qa: the end point, the two tangents
+    let joints: Vec<(DVec3, DVec3, DVec3)> = (0..qa.len())
+        .map(|j| {
+            let w1 = step(qa[j], qb[j]);
+            let t0 = e.prev.map_or(w1 / nf, |(_, p)| step(p[j], qa[j]));
+            let t1 = e.next.map_or(w1 / nf, |(_, q)| step(qb[j], q[j]));
+            (w1, t0, t1)
+        })
+        .collect();
+    (1..n)
+        .map(|f| {
+            let [h00, h10, h01, h11] = basis(f as f64 / nf);
+            let p = pa * h00 + va * (nf * h10) + pb * h01 + vb * (nf * h11);
+            let r = joints
+                .iter()
+                .zip(qa)
+                .map(|((w1, t0, t1), q0)| {
+                    let w = *t0 * (nf * h10) + *w1 * h01 + *t1 * (nf * h11);
+                    (*q0 * DQuat::from_scaled_axis(w)).normalize()
+                })
+                .collect();
+            (p, r)
+        })
+        .collect()
+}
+
 /// The context-tangent Hermite curve over one gap's key span (`ck` on
-/// `clip`): the context frames as they are, the gap's frames on a cubic
-/// Hermite curve from the last frame before it to the first after it. Its
-/// tangents are the velocities of the context: the last step before the
-/// gap, and the first step after it when two frames after are known (else
-/// the chord, the mean velocity across the gap).
+/// `clip`): the context frames as they are, the gap's frames on
+/// [`hermite_curve`] from the last frame before it to the first after it
+/// (the first step after it read when two frames after are known).
 pub fn hermite(clip: &Bvh, ck: &ClipKeys) -> Result<Motion> {
     let pose = |f: usize| Keyframe::from_bvh(clip, f, 0);
     let frames = &ck.clip_frames;
@@ -256,7 +314,6 @@ pub fn hermite(clip: &Bvh, ck: &ClipKeys) -> Result<Motion> {
         .position(|w| w[1] > w[0] + 1)
         .ok_or_else(|| Error::Invalid("a fill's keys leave no gap".into()))?;
     let (a, b) = (frames[at], frames[at + 1]);
-    let n = (b - a) as f64;
     let (ka, kb) = (pose(a)?, pose(b)?);
     let prev = (at > 0).then(|| pose(frames[at - 1])).transpose()?;
     let next = (at + 2 < frames.len())
@@ -269,10 +326,6 @@ pub fn hermite(clip: &Bvh, ck: &ClipKeys) -> Result<Motion> {
             k.positions[2] as f64,
         )
     };
-    let (pa, pb) = (root(&ka), root(&kb));
-    let chord = (pb - pa) / n;
-    let va = prev.as_ref().map_or(chord, |p| pa - root(p));
-    let vb = next.as_ref().map_or(chord, |q| root(q) - pb);
     let rot = |k: &Keyframe| -> Result<Vec<DQuat>> {
         Ok(k.rotations
             .as_ref()
@@ -284,23 +337,13 @@ pub fn hermite(clip: &Bvh, ck: &ClipKeys) -> Result<Motion> {
     let (qa, qb) = (rot(&ka)?, rot(&kb)?);
     let qp = prev.as_ref().map(rot).transpose()?;
     let qn = next.as_ref().map(rot).transpose()?;
-    // per joint, in the tangent space at qa: the end point, the two tangents
-    let joints: Vec<(DVec3, DVec3, DVec3)> = (0..qa.len())
-        .map(|j| {
-            let (q0, mut q1) = (qa[j], qb[j]);
-            if q0.dot(q1) < 0.0 {
-                q1 = -q1;
-            }
-            let w1 = (q0.inverse() * q1).normalize().to_scaled_axis();
-            let step = |x: DQuat, y: DQuat| {
-                let y = if x.dot(y) < 0.0 { -y } else { y };
-                (x.inverse() * y).normalize().to_scaled_axis()
-            };
-            let t0 = qp.as_ref().map_or(w1 / n, |p| step(p[j], q0));
-            let t1 = qn.as_ref().map_or(w1 / n, |q| step(q1, q[j]));
-            (w1, t0, t1)
-        })
-        .collect();
+    let ends = HermiteEnds {
+        root: [root(&ka), root(&kb)],
+        rot: [&qa, &qb],
+        prev: prev.as_ref().zip(qp.as_deref()).map(|(k, q)| (root(k), q)),
+        next: next.as_ref().zip(qn.as_deref()).map(|(k, q)| (root(k), q)),
+    };
+    let mut curve = hermite_curve(&ends, b - a).into_iter();
     let mut m = Motion {
         root: Vec::with_capacity(ck.frames()),
         rotations: Vec::with_capacity(ck.frames()),
@@ -312,20 +355,13 @@ pub fn hermite(clip: &Bvh, ck: &ClipKeys) -> Result<Motion> {
             m.rotations.push(k.rotations.unwrap_or_default());
             continue;
         }
-        let u = (f - a) as f64 / n;
-        let [h00, h10, h01, h11] = basis(u);
-        let p = pa * h00 + va * (n * h10) + pb * h01 + vb * (n * h11);
+        let (p, r) = curve
+            .next()
+            .ok_or_else(|| Error::Invalid("the Hermite curve ended early".into()))?;
         m.root.push(p.to_array());
         m.rotations.push(
-            joints
-                .iter()
-                .zip(&qa)
-                .map(|((w1, t0, t1), q0)| {
-                    let w = *t0 * (n * h10) + *w1 * h01 + *t1 * (n * h11);
-                    from_glam_f64(&glam::DMat3::from_quat(
-                        (*q0 * DQuat::from_scaled_axis(w)).normalize(),
-                    ))
-                })
+            r.iter()
+                .map(|q| from_glam_f64(&glam::DMat3::from_quat(*q)))
                 .collect(),
         );
     }

@@ -220,3 +220,72 @@ fn the_hermite_baseline_is_exact_on_steady_motion() {
     let q = deeprep::skeleton::fk::global_pose(&b, b.frame(60)).positions[0];
     assert!(p.distance(q) > 10.0);
 }
+
+/// `fill::hermite_curve` against its twin in the training code (cond.py's
+/// `hermite_base`, the conditional network's base over gaps with context):
+/// three gaps of a training take, with context on both sides, before only
+/// and after only (tests/fixtures/hermite_torch.json, written by
+/// train/deeprep_train/motion/make_hermite_fixture.py).
+#[test]
+fn the_hermite_curve_matches_the_training_code() {
+    use glam::{DQuat, DVec3};
+    let p = root().join("tests/fixtures/hermite_torch.json");
+    let f: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap();
+    let v = |x: &serde_json::Value| -> Vec<f64> {
+        x.as_array()
+            .unwrap()
+            .iter()
+            .map(|y| y.as_f64().unwrap())
+            .collect()
+    };
+    let quats = |x: &serde_json::Value| -> Vec<DQuat> {
+        x.as_array()
+            .unwrap()
+            .iter()
+            .map(|q| {
+                let q = v(q);
+                DQuat::from_xyzw(q[1], q[2], q[3], q[0])
+            })
+            .collect()
+    };
+    let mut checked = 0;
+    for gap in f["gaps"].as_array().unwrap() {
+        let (a, b) = (
+            gap["a"].as_u64().unwrap() as usize,
+            gap["b"].as_u64().unwrap() as usize,
+        );
+        let key = |frame: usize| {
+            let k = &gap["keys"][frame.to_string()];
+            (DVec3::from_slice(&v(&k["root"])), quats(&k["quat_wxyz"]))
+        };
+        let (ka, kb) = (key(a), key(b));
+        let prev = gap["prev"].as_bool().unwrap().then(|| key(a - 1));
+        let next = gap["next"].as_bool().unwrap().then(|| key(b + 1));
+        let ends = fill::HermiteEnds {
+            root: [ka.0, kb.0],
+            rot: [&ka.1, &kb.1],
+            prev: prev.as_ref().map(|(r, q)| (*r, q.as_slice())),
+            next: next.as_ref().map(|(r, q)| (*r, q.as_slice())),
+        };
+        let curve = fill::hermite_curve(&ends, b - a);
+        let want_root = gap["root"].as_array().unwrap();
+        let want_rot = gap["quat_wxyz"].as_array().unwrap();
+        assert_eq!(curve.len(), want_root.len());
+        for (t, (r, q)) in curve.iter().enumerate() {
+            let wr = DVec3::from_slice(&v(&want_root[t]));
+            assert!(
+                (*r - wr).length() < 1e-9,
+                "gap {a}-{b} frame {t}: root {r} vs {wr}"
+            );
+            for (j, (got, want)) in q.iter().zip(quats(&want_rot[t])).enumerate() {
+                // the same rotation (q and -q)
+                assert!(
+                    got.dot(want).abs() > 1.0 - 1e-12,
+                    "gap {a}-{b} frame {t} joint {j}: {got} vs {want}"
+                );
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked > 60, "{checked} frames compared");
+}
