@@ -240,6 +240,10 @@ fn bad_conditional_manifests_are_errors() {
         (with("scale", 0.into()), "must be positive"),
         (with("variation", 5.into()), "[0, 2]"),
         (
+            with("context_base", "cubic".into()),
+            "expected 'slerp' or 'hermite'",
+        ),
+        (
             with("rotating", serde_json::json!([1, 0])),
             "'rotating' must list",
         ),
@@ -275,4 +279,93 @@ fn a_long_gap_keeps_moving() {
         turned > 1.0,
         "the knee turns {turned} rad over frames 400-600"
     );
+}
+
+/// With `context_base: hermite` in the manifest (issue 50), a gap between
+/// whole poses with context frames starts from the fill's Hermite curve:
+/// at variation 0 the output is that curve (fill::hermite_curve on the same
+/// keys); the bundled manifest's SLERP+LERP base gives another motion.
+#[test]
+fn a_hermite_context_base_is_the_fill_curve_at_variation_zero() {
+    use deeprep::motion::fill;
+    use deeprep::rotation::to_glam_f64;
+    use glam::{DQuat, DVec3};
+    let Some(slerp) = model() else { return };
+    let dir = root().join("models/onnx");
+    let mut manifest: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("tween_cond.manifest.json")).unwrap(),
+    )
+    .unwrap();
+    manifest["context_base"] = "hermite".into();
+    let m = CondModel::new(
+        &std::fs::read(dir.join("tween_cond.onnx")).unwrap(),
+        &manifest.to_string(),
+    )
+    .unwrap();
+    // a clip on the model's skeleton whose joints turn at varying rates
+    let mut b = m.template.clone();
+    let c = b.channel_count();
+    b.motion = (0..40 * c)
+        .map(|i| {
+            let (f, ch) = ((i / c) as f32, i % c);
+            match ch {
+                0 => 1.5 * f,
+                1 => 88.0 + (0.2 * f).sin(),
+                2 => -0.5 * f,
+                _ => 25.0 * (0.05 * f + 0.3 * ch as f32).sin(),
+            }
+        })
+        .collect();
+    let keys: Vec<Keyframe> = [0, 1, 2, 30, 31]
+        .iter()
+        .map(|&f| Keyframe::from_bvh(&b, f, f).unwrap())
+        .collect();
+    let out = m.synthesize(&keys, 32, 0.0, None).unwrap();
+    let root_of = |k: &Keyframe| {
+        DVec3::new(
+            k.positions[0] as f64,
+            k.positions[1] as f64,
+            k.positions[2] as f64,
+        )
+    };
+    let quats = |k: &Keyframe| -> Vec<DQuat> {
+        k.rotations
+            .as_ref()
+            .unwrap()
+            .iter()
+            .map(|r| DQuat::from_mat3(&to_glam_f64(r)).normalize())
+            .collect()
+    };
+    let (q1, q2, q30, q31) = (
+        quats(&keys[1]),
+        quats(&keys[2]),
+        quats(&keys[3]),
+        quats(&keys[4]),
+    );
+    let ends = fill::HermiteEnds {
+        root: [root_of(&keys[2]), root_of(&keys[3])],
+        rot: [&q2, &q30],
+        prev: Some((root_of(&keys[1]), &q1)),
+        next: Some((root_of(&keys[4]), &q31)),
+    };
+    let curve = fill::hermite_curve(&ends, 28);
+    let mut apart = 0f64;
+    let other = slerp.synthesize(&keys, 32, 0.0, None).unwrap();
+    for (i, (p, q)) in curve.iter().enumerate() {
+        let t = 3 + i;
+        let got = DVec3::from_array(out.root[t]);
+        assert!(
+            (got - *p).length() < 1e-6,
+            "frame {t}: root {got} vs the curve's {p}"
+        );
+        for (j, want) in q.iter().enumerate() {
+            let g = DQuat::from_mat3(&to_glam_f64(&out.rotations[t][j])).normalize();
+            assert!(
+                g.dot(*want).abs() > 1.0 - 1e-9,
+                "frame {t} joint {j}: {g} vs the curve's {want}"
+            );
+        }
+        apart = apart.max((DVec3::from_array(other.root[t]) - *p).length());
+    }
+    assert!(apart > 0.1, "the SLERP+LERP base is {apart} from the curve");
 }
