@@ -7,10 +7,11 @@ import os from 'node:os';
 import path from 'node:path';
 import { execFileSync } from 'node:child_process';
 import { fileURLToPath } from 'node:url';
-import { AnimationMixer, LoopOnce, Vector3 } from 'three';
+import { Vector3 } from 'three';
 import { BVHLoader } from 'three/examples/jsm/loaders/BVHLoader.js';
 import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import { Character } from '../../web/three.js';
+import { asResult, play } from '../../tests/web/three_tracks.mjs';
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
 const CLI = path.join(ROOT, 'target/release/deeprep');
@@ -45,39 +46,14 @@ function bvhPoses(text) {
 
 /** The robot's bones where AnimationMixer puts them. */
 function robotPoses(clip) {
-  const mixer = new AnimationMixer(gltf.scene);
-  const action = mixer.clipAction(clip);
-  action.setLoop(LoopOnce, 1);
-  action.clampWhenFinished = true;
-  action.play();
-  const poses = FRAMES.map((f) => {
-    mixer.setTime(f / 30);
-    gltf.scene.updateMatrixWorld(true);
-    return character.bones.map((b) => b.getWorldPosition(new Vector3()));
-  });
-  action.stop();
-  mixer.uncacheRoot(gltf.scene);
-  character.rest();
+  const poses = play(character, clip, FRAMES.map((f) => f / 30));
   // the body's bones: not the root bone's links to the body and the IK pole targets
   const lines = character.parent.map((p, i) => [p, i])
     .filter(([p, i]) => p >= 0 && p !== character.top && !/PoleTarget/.test(character.names[i]));
   return { poses, lines };
 }
 
-const result = (() => {
-  const r = new BVHLoader().parse(fs.readFileSync(back, 'utf8'));
-  const bones = r.skeleton.bones, J = bones.length, tracks = r.clip.tracks, frames = tracks[0].times.length;
-  const translations = new Float32Array(frames * J * 3), quaternions = new Float32Array(frames * J * 4);
-  bones.forEach((b, j) => {
-    const end = b.name === 'ENDSITE';
-    const pt = !end && tracks.find((t) => t.name === `${b.name}.position`), qt = !end && tracks.find((t) => t.name === `${b.name}.quaternion`);
-    for (let f = 0; f < frames; f++) {
-      translations.set(pt ? pt.values.subarray(f * 3, f * 3 + 3) : b.position.toArray(), (f * J + j) * 3);
-      quaternions.set(qt ? qt.values.subarray(f * 4, f * 4 + 4) : [0, 0, 0, 1], (f * J + j) * 4);
-    }
-  });
-  return { frames, frameTime: 1 / 30, translations, quaternions };
-})();
+const result = asResult(fs.readFileSync(back, 'utf8'));
 
 const panels = [
   ['the robot, its own clip', robotPoses(walk)],

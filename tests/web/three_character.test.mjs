@@ -13,52 +13,15 @@ import os from 'node:os';
 import path from 'node:path';
 import { execFileSync, spawnSync } from 'node:child_process';
 import {
-  AnimationClip, AnimationMixer, Bone, LoopOnce, Object3D, Quaternion, QuaternionKeyframeTrack, Vector3, VectorKeyframeTrack,
+  AnimationClip, Bone, Object3D, Quaternion, QuaternionKeyframeTrack, Vector3, VectorKeyframeTrack,
 } from 'three';
-import { BVHLoader } from 'three/examples/jsm/loaders/BVHLoader.js';
 import { GLTFLoader } from 'three/examples/jsm/loaders/GLTFLoader.js';
 import { Character } from '../../web/three.js';
+import { asResult, play } from './three_tracks.mjs';
 import { ROOT } from './chromium.mjs';
 
 const CLI = path.join(ROOT, 'target/debug/deeprep');
 const ROBOT = path.resolve(ROOT, '../shared/data/gltf/RobotExpressive.glb');
-
-/** BVH text read by three's own BVHLoader, as a synthesis result's local tracks
- *  (End Sites included, file order): what Character.clipFrom takes. */
-function asResult(text) {
-  const r = new BVHLoader().parse(text);
-  const bones = r.skeleton.bones, J = bones.length, tracks = r.clip.tracks;
-  const frames = tracks[0].times.length, frameTime = frames > 1 ? tracks[0].times[1] : 1 / 30;
-  const translations = new Float32Array(frames * J * 3), quaternions = new Float32Array(frames * J * 4);
-  bones.forEach((b, j) => {
-    const end = b.name === 'ENDSITE';
-    const pt = !end && tracks.find((t) => t.name === `${b.name}.position`);
-    const qt = !end && tracks.find((t) => t.name === `${b.name}.quaternion`);
-    for (let f = 0; f < frames; f++) {
-      translations.set(pt ? pt.values.subarray(f * 3, f * 3 + 3) : b.position.toArray(), (f * J + j) * 3);
-      quaternions.set(qt ? qt.values.subarray(f * 4, f * 4 + 4) : [0, 0, 0, 1], (f * J + j) * 4);
-    }
-  });
-  return { frames, frameTime, translations, quaternions };
-}
-
-/** Every bone's world position at each time, the clip played once by AnimationMixer. */
-function play(character, clip, times) {
-  const mixer = new AnimationMixer(character.root);
-  const action = mixer.clipAction(clip);
-  action.setLoop(LoopOnce, 1);
-  action.clampWhenFinished = true;
-  action.play();
-  const out = times.map((t) => {
-    mixer.setTime(t);
-    character.root.updateMatrixWorld(true);
-    return character.bones.map((b) => b.getWorldPosition(new Vector3()));
-  });
-  action.stop();
-  mixer.uncacheRoot(character.root);
-  character.rest();
-  return out;
-}
 
 function distances(a, b, keep = () => true) {
   let sum = 0, n = 0, max = 0;
