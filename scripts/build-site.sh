@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Writes web/dist/: the pages, the wasm package and the models, laid out so
 # any static file server (or an offline copy) serves it:
-#   web/dist/index.html -> web/, web/dist/web/*, web/dist/models/{onnx,examples},
+#   web/dist/index.html -> web/, web/dist/web/* (three.js under web/vendor/three), web/dist/models/{onnx,examples},
 #   web/dist/shared-data/gltf/ (the CC0 robot and its licence, when ../shared/data has them)
 #   scripts/build-site.sh           uses the current web/pkg (builds it if missing)
 #   scripts/build-site.sh --opt     rebuilds web/pkg with wasm-opt first
@@ -14,6 +14,12 @@ cp web/*.html web/*.js web/dist/web/
 cp -r web/lib web/sketch web/dist/web/
 cp -r web/pkg web/dist/web/pkg
 cp -r web/pkg-core web/dist/web/pkg-core
+# three.js (MIT) for the sketching page's glTF import, loaded only when a .glb is imported
+for f in build/three.module.js build/three.core.js examples/jsm/loaders/GLTFLoader.js \
+         examples/jsm/utils/BufferGeometryUtils.js examples/jsm/utils/SkeletonUtils.js LICENSE; do
+  mkdir -p "web/dist/web/vendor/three/$(dirname "$f")"
+  cp "node_modules/three/$f" "web/dist/web/vendor/three/$f"
+done
 cp models/onnx/*.onnx models/onnx/*.manifest.json web/dist/models/onnx/
 cp models/examples/*.json web/dist/models/examples/
 # the mesh page's robot (CC0, with its licence) where the shared data is

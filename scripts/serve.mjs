@@ -8,6 +8,8 @@
 // `scripts/build-wasm.sh --pages-only` (the demo's one build), its files are
 // served from web/pkg/, the full package, which holds everything the worker
 // imports; the relaxed-SIMD twin is then absent and the worker runs plain SIMD.
+// web/vendor/three/ (three.js for the sketching page's glTF import) comes from
+// node_modules/three/ where the site's copy is not there.
 import http from 'node:http';
 import fs from 'node:fs';
 import path from 'node:path';
@@ -43,6 +45,12 @@ export function serve(dir, port = 0, host = '127.0.0.1', { cors = false } = {}) 
       const core = path.join(root, 'web', 'pkg-core');
       if (p.startsWith(core + path.sep) && !fs.existsSync(core)) {
         p = path.join(root, 'web', 'pkg', path.relative(core, p));
+      }
+      // three.js for the sketching page's glTF import: from node_modules
+      // where the site's copy (scripts/build-site.sh) is not there
+      const vendor = path.join(root, 'web', 'vendor', 'three');
+      if (p.startsWith(vendor + path.sep) && !fs.existsSync(vendor)) {
+        p = path.join(root, 'node_modules', 'three', path.relative(vendor, p));
       }
     }
     try {

@@ -6,7 +6,7 @@ import assert from 'node:assert/strict';
 import fs from 'node:fs';
 import path from 'node:path';
 import { BVHLoader } from 'three/examples/jsm/loaders/BVHLoader.js';
-import { launch, startServer, watchErrors, ROOT } from './chromium.mjs';
+import { launch, litInScreenshot, startServer, watchErrors, ROOT } from './chromium.mjs';
 
 let browser, server;
 
@@ -429,6 +429,32 @@ test('sketch page: two DNA seeds overlaid, with the distance between them (Sec. 
   assert.deepEqual(errors, []);
   await page.close();
 });
+
+const ROBOT = path.join(ROOT, '../shared/data/gltf/RobotExpressive.glb');
+test('sketch page: a rigged glTF character (.glb) imports, its clip retargeted onto the model; another clip picked (issue 53)',
+  { skip: !fs.existsSync(ROBOT) && 'SKIP: ../shared/data/gltf is absent' }, async () => {
+    const page = await browser.context.newPage();
+    const errors = watchErrors(page);
+    await page.goto(`${server.url}/web/index.html`);
+    await page.waitForSelector('body[data-ready="1"]', { timeout: 120_000 });
+    await page.setInputFiles('#import', { name: 'RobotExpressive.glb', mimeType: 'model/gltf-binary', buffer: fs.readFileSync(ROBOT) });
+    await page.waitForFunction(() => /imported RobotExpressive.glb, clip Dance of 14 \(retargeted from its 56-joint skeleton/
+      .test(document.getElementById('status').textContent), null, { timeout: 60_000 });
+    // the file's other clips are offered: Walking, picked, is what the view shows
+    await page.selectOption('#gltf-clip', 'Walking');
+    await page.waitForFunction(() => /imported RobotExpressive.glb, clip Walking of 14 .*: \d+ poses added/
+      .test(document.getElementById('status').textContent), null, { timeout: 60_000 });
+    assert.equal(await page.evaluate(() => window.deeprepState.result.frames), 29, 'Walking: 29 frames at 30 fps');
+    await page.fill('#scrub', '10');
+    await page.dispatchEvent('#scrub', 'input');
+    const lit = await litInScreenshot(page, '#view');
+    assert.ok(lit > 0.002, `the view shows the walk: ${lit} of its pixels lit`);
+    // a .glb that is not glTF: an error in words, the page still works
+    await page.setInputFiles('#import', { name: 'broken.glb', mimeType: 'model/gltf-binary', buffer: Buffer.from('not a glb') });
+    await page.waitForFunction(() => /import failed: broken.glb is not a glTF file/.test(document.getElementById('status').textContent),
+      null, { timeout: 60_000 });
+    assert.deepEqual(errors, []);
+  });
 
 test('sketch page: a gap of an imported clip filled from the timeline, every other frame kept (issue 50)', async () => {
   const page = await browser.context.newPage();

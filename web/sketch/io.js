@@ -29,11 +29,40 @@ export async function exportBvh() {
   setTimeout(() => URL.revokeObjectURL(a.href), 1000);
 }
 
-export async function importBvh(file) {
+/** A rigged glTF character's clip as BVH text on its own skeleton (deeprep/three.js'
+ *  Character; three.js is loaded on first use). Every clip of the file is offered in
+ *  #gltf-clip; `clipName` picks one (default the first). */
+async function gltfClipAsBvh(file, clipName) {
+  const [{ GLTFLoader }, { Character }] = await Promise.all([import('three/addons/loaders/GLTFLoader.js'), import('../three.js')]);
+  const gltf = await new GLTFLoader().parseAsync(await file.arrayBuffer(), '')
+    .catch((e) => { throw new Error(`${file.name} is not a glTF file three.js reads: ${e.message || e}`); });
+  if (!gltf.animations.length) throw new Error(`${file.name} has no animation clips`);
+  const clip = gltf.animations.find((a) => a.name === clipName) || gltf.animations[0];
+  const sel = $('gltf-clip');
+  sel.innerHTML = '';
+  for (const a of gltf.animations) sel.add(new Option(`${a.name} (${a.duration.toFixed(1)} s)`, a.name, false, a === clip));
+  sel.onchange = () => importBvh(file, sel.value);
+  $('gltf-clip-box').hidden = false;
+  return { bvh: new Character(gltf.scene).toBvh(clip, { fps: 30 }), clip: clip.name, clips: gltf.animations.length };
+}
+
+/** Imports a BVH clip, or a clip of a rigged glTF character (.glb): parsed in the worker and,
+ *  on another humanoid skeleton, retargeted onto the model's. */
+export async function importBvh(file, clipName) {
   try {
+    let bytes, what = '';
+    if (/\.glb$/i.test(file.name)) {
+      setStatus(`reading the glTF character ${file.name}…`);
+      const g = await gltfClipAsBvh(file, clipName);
+      bytes = new TextEncoder().encode(g.bvh);
+      what = `, clip ${g.clip} of ${g.clips}`;
+    } else {
+      $('gltf-clip-box').hidden = true;
+      bytes = new Uint8Array(await file.arrayBuffer());
+    }
     // Parsed and checked in the synthesis worker: a hostile file can at worst
     // cost that worker (which the client replaces), never this page.
-    const clip = await state.client.importBvh(new Uint8Array(await file.arrayBuffer()))
+    const clip = await state.client.importBvh(bytes)
       .catch((e) => { throw new Error(`${file.name}: ${e.message}`); });
     const c = clip.channelCount, m = clip.motion, step = Math.max(1, Math.round(0.5 / clip.frameTime));
     let added = 0;
@@ -48,7 +77,7 @@ export async function importBvh(file) {
     $('method-badge').textContent = `imported ${file.name}`;
     fillLibrary();
     const from = clip.retargetedFrom ? ` (retargeted from its ${clip.retargetedFrom.joints}-joint skeleton onto the model's)` : '';
-    setStatus(`imported ${file.name}${from}: ${added} poses added to the library` + (state.dnaClip?.name === file.name ? '; seeded DNA is drawn from it' : ''));
+    setStatus(`imported ${file.name}${what}${from}: ${added} poses added to the library` + (state.dnaClip?.name === file.name ? '; seeded DNA is drawn from it' : ''));
     draw();
     state.view.frame();
     draw();
