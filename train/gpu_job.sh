@@ -27,7 +27,7 @@
 # INIT=checkpoints/tween_resid_w128b.pt starts a new one from the whole-pose
 # network instead) and EXTRA (more `cond train` flags; default the current
 # stage's: --gan-weight 0.1 --div-weight 1 --div-tau 0.06 --fill-share 0.2
-# --context-base 1, a new discriminator
+# --context-base 1 --short-every 3 --extra-share 0.5, a new discriminator
 # each run since the portable file carries none). Try it on the CPU first:
 #   OUT=/tmp/gpu_try DEVICE=cpu MINUTES=0.2 BATCH=2 bash train/gpu_job.sh
 set -euo pipefail
@@ -41,8 +41,9 @@ PORTABLE=${PORTABLE:-checkpoints/tween_cond.pt}
 INIT=${INIT:-}
 # the stage the CPU run is in (notes/cond.md): adversarial and diversity terms,
 # a fifth of the windows laid out as gaps in captured motion, on the Hermite
-# curve as the base over gaps with context (issue 50)
-EXTRA=${EXTRA:---gan-weight 0.1 --div-weight 1 --div-tau 0.06 --fill-share 0.2 --context-base 1}
+# curve as the base over gaps with context (issue 50); every third batch of
+# 150-frame windows, half of them from cmu-extra's walks and runs
+EXTRA=${EXTRA:---gan-weight 0.1 --div-weight 1 --div-tau 0.06 --fill-share 0.2 --context-base 1 --short-every 3 --extra-share 0.5}
 [ -x .venv/bin/python ] && [ "$DEVICE" = cpu ] && PY=.venv/bin/python
 export PYTHONPATH="$PWD${PYTHONPATH:+:$PYTHONPATH}" PYTHONUNBUFFERED=1
 [ -f cache/resid60.npz ] || { echo "gpu_job: train/cache/resid60.npz is missing: carry it (see the header)" >&2; exit 2; }

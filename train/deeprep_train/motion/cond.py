@@ -383,10 +383,14 @@ def spread(d, skel):
     return np.concatenate(chunks).std(0) + 1e-6
 
 
-def make_batch(clips, skel, prior, b, n, rng, do_mirror, device, fill_share=0.0, context_base=False):
+def make_batch(clips, skel, prior, b, n, rng, do_mirror, device, fill_share=0.0, context_base=False,
+               extra_share=0.0):
+    """b windows of n frames; `extra_share` of them from cmu-extra's locomotion clips
+    (segments named extra/...) where one is at least n frames long."""
     xs, gr_, gq_, br, bq, tr, tq, offs = [], [], [], [], [], [], [], []
+    extra = np.array([str(name).startswith("extra/") for name in clips.names])
     for _ in range(b):
-        root, quat = clips.window(n, rng)
+        root, quat = clips.window(n, rng, extra if rng.random() < extra_share else None)
         off = skel.offsets
         if do_mirror and rng.random() < 0.5:
             root, quat = mirror(root, quat, skel)
@@ -518,8 +522,12 @@ def train(args):
         os.replace(ck + ".tmp", ck)
 
     while time.time() - t0 < args.minutes * 60:
-        batch = make_batch(clips, skel, prior, args.batch, args.frames, rng, args.mirror, dev, args.fill_share,
-                           net.context_base)
+        # every short_every-th batch: shorter windows (cmu-extra's walks and runs are 67-299
+        # frames long, never a whole 480-frame window), as many frames in all
+        short = args.short_every > 0 and step % args.short_every == 0
+        n = args.short_frames if short else args.frames
+        batch = make_batch(clips, skel, prior, max(1, args.batch * args.frames // n), n, rng, args.mirror, dev,
+                           args.fill_share, net.context_base, args.extra_share if short else 0.0)
         out = losses(net, skel, batch, w, adv, args.div_tau)
         opt.zero_grad()
         out["total"].backward()
@@ -813,6 +821,11 @@ def main():
     ap.add_argument("--context-base", type=int, default=-1,
                     help="1: over gaps with a whole-pose context frame, motion::fill's context-tangent Hermite curve "
                          "as the base (0: SLERP+LERP; default: the checkpoint's)")
+    ap.add_argument("--short-every", type=int, default=0,
+                    help="every K-th batch of --short-frames windows (0: never), as many frames in all")
+    ap.add_argument("--short-frames", type=int, default=150)
+    ap.add_argument("--extra-share", type=float, default=0.0,
+                    help="share of a short batch's windows from cmu-extra's locomotion clips")
     ap.add_argument("--save-every", type=int, default=250)
     ap.add_argument("--snapshot-every", type=int, default=1000)
     ap.add_argument("--split", default="train")

@@ -122,8 +122,13 @@ class Clips:
             self.lens, self.names = np.array(lens), names
         self.starts = np.concatenate([[0], np.cumsum(self.lens)[:-1]])
 
-    def window(self, n, rng):
+    def window(self, n, rng, among=None):
+        """An n-frame window, segments weighted by length; `among` (a flag
+        per segment) limits the draw to the flagged ones where one is long
+        enough."""
         ok = np.nonzero(self.lens >= n)[0]
+        if among is not None and among[ok].any():
+            ok = ok[among[ok]]
         s = rng.choice(ok, p=self.lens[ok] / self.lens[ok].sum())
         a = int(self.starts[s] + rng.integers(0, self.lens[s] - n + 1))
         return self.root[a:a + n], self.quat[a:a + n]
