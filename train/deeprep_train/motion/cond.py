@@ -652,6 +652,45 @@ def portable(args):
     print(f"wrote {to} (step {s['step']}, {os.path.getsize(to) / 1e6:.1f} MB)")
 
 
+def recover(args):
+    """The bundled network (models/onnx/tween_cond.onnx: float16 weights, the
+    moving average of the step its manifest names) back as a snapshot that
+    `eval --ckpt` and `export --ckpt` read (--to, default
+    cache/cond/gen_<step>_onnx.pt), checked against its parity fixture: the
+    rule of train/notes/cond.md compares new snapshots with it, also on a
+    machine that never held cache/cond."""
+    import onnx
+    import onnxruntime as ort
+    from deeprep_train.export.util import ONNX_DIR, initializer_arrays
+    man = json.load(open(os.path.join(ONNX_DIR, "tween_cond.manifest.json")))
+    t = man["training"]
+    s = {"width": t["width"], "K": t["K"], "dilations": t["dilations"], "stride": t["stride"], "skip": t["skip"],
+         "J": t["J"], "Z": t["Z"], "context_base": int(man.get("context_base") == "hermite")}
+    net = build(s)
+    arrays = initializer_arrays(onnx.load(os.path.join(ONNX_DIR, "tween_cond.onnx")))
+    state = {k: torch.from_numpy(np.array(arrays[k], dtype=np.float32)) for k in net.state_dict()}
+    net.load_state_dict(state)
+    fix = json.load(open(os.path.join(ONNX_DIR, "fixtures", "tween_cond.json")))
+    x = np.array(fix["inputs"]["x"]["data"], dtype=np.float32).reshape(fix["inputs"]["x"]["shape"])
+    with torch.no_grad():
+        mine = net(torch.from_numpy(x)).numpy()
+    want = ort.InferenceSession(os.path.join(ONNX_DIR, "tween_cond.onnx"),
+                                providers=["CPUExecutionProvider"]).run(None, {"x": x})[0]
+    # relative to the output's size (float32 sums in another order: about 1e-5)
+    off = float(np.abs(mine - want).max() / np.abs(want).max())
+    if off > 1e-4:
+        raise SystemExit(f"recover: the rebuilt network is {off} (relative) from onnxruntime's output")
+    from deeprep_train.bvh import mat_to_quat
+    prior_m = np.array(man["prior"], dtype=np.float64).reshape(-1, 3, 3)
+    prior = torch.from_numpy(mat_to_quat(prior_m)).float()   # [K, 4], w first, as prior_pose gives
+    if float(np.abs(quat_to_mat(prior).double().numpy() - prior_m).max()) > 1e-4:
+        raise SystemExit("recover: the manifest's prior pose is not a set of rotations")
+    to = args.to or os.path.join(OUT, f"gen_{t['steps']}_onnx.pt")
+    os.makedirs(os.path.dirname(os.path.abspath(to)), exist_ok=True)
+    torch.save({"ema": net.state_dict(), "step": t["steps"], "prior": prior, **net.arch()}, to)
+    print(f"wrote {to} (step {t['steps']}; within {off:.1e} of onnxruntime's output on the fixture, relative)")
+
+
 # ---------------------------------------------------------------- export
 
 FIXTURE_CASES = [
@@ -788,7 +827,7 @@ def export(args):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("cmd", choices=["train", "eval", "portable", "export"])
+    ap.add_argument("cmd", choices=["train", "eval", "portable", "export", "recover"])
     ap.add_argument("--data", default=os.path.join(CACHE, "resid60.npz"))
     ap.add_argument("--out", default=OUT)
     ap.add_argument("--init", help="train: the whole-pose checkpoint this network starts from")
@@ -842,7 +881,7 @@ def main():
                     help="export: 1 makes the manifest name this network the `model` method's for root-only and "
                          "2-D keys (only after it beat the generator by the rule in train/notes/cond.md)")
     args = ap.parse_args()
-    {"train": train, "eval": evaluate, "portable": portable, "export": export}[args.cmd](args)
+    {"train": train, "eval": evaluate, "portable": portable, "export": export, "recover": recover}[args.cmd](args)
 
 
 if __name__ == "__main__":
