@@ -131,7 +131,9 @@ export class Character {
     walk(roots[0]);
     this.kids = kids;
     this.top = roots[0];
-    // the parents' world matrices at rest, for bones whose parent object is not a bone here
+    // each bone's real parent (its parent object) as a bone index, -1 where it is not a bone,
+    // and the parents' world matrices at rest, for those that are not
+    this.realParent = bones.map((b) => (b.parent && index.has(b.parent) ? index.get(b.parent) : -1));
     this.parentRest = bones.map((b) => (b.parent ? b.parent.matrixWorld.clone() : new Matrix4()));
   }
 
@@ -245,8 +247,7 @@ export class Character {
         W[i].compose(P[i], q.copy(G[i]).multiply(this.restQuat[i]), this.restScale[i]);
       });
       for (let i = 0; i < B; i++) {
-        const b = this.bones[i];
-        const real = b.parent ? this.bones.indexOf(b.parent) : -1;
+        const real = this.realParent[i];
         const parentWorld = real >= 0 ? W[real] : this.parentRest[i];
         m.copy(parentWorld).invert().multiply(W[i]);
         m.decompose(pp, pq, ps);
