@@ -151,13 +151,6 @@ def context_spans(keys, kinds):
     return out
 
 
-def _qmul(a, b):
-    aw, ax, ay, az = a.unbind(-1)
-    bw, bx, by, bz = b.unbind(-1)
-    return torch.stack([aw * bw - ax * bx - ay * by - az * bz, aw * bx + ax * bw + ay * bz - az * by,
-                        aw * by - ax * bz + ay * bw + az * bx, aw * bz + ax * by - ay * bx + az * bw], -1)
-
-
 def _qconj(q):
     return q * torch.tensor([1.0, -1.0, -1.0, -1.0], dtype=q.dtype)
 
@@ -165,7 +158,7 @@ def _qconj(q):
 def _step(x, y):
     """The rotation from x to y as a scaled axis (the short arc), [..., 3]."""
     y = torch.where((x * y).sum(-1, keepdim=True) < 0, -y, y)
-    d = _qmul(_qconj(x), y)
+    d = quat_mul(_qconj(x), y)
     d = d / d.norm(dim=-1, keepdim=True)
     v = d[..., 1:]
     sv = v.norm(dim=-1, keepdim=True)
@@ -202,7 +195,7 @@ def hermite_base(spans, root, quat, base_root, base_q):
         t0 = _step(quat[p], qa) if p is not None else w1 / n
         t1 = _step(qb, quat[q]) if q is not None else w1 / n
         w = ((n * h10)[:, None, None] * t0 + h01[:, None, None] * w1 + (n * h11)[:, None, None] * t1)
-        r = _qmul(qa.expand(len(u), -1, -1), _exp(w))
+        r = quat_mul(qa.expand(len(u), -1, -1), _exp(w))
         base_q[a + 1:b] = r / r.norm(dim=-1, keepdim=True)
 
 
