@@ -345,13 +345,8 @@ mod model {
             base_rot: &mut [Vec<Mat3<f64>>],
         ) -> Result<()> {
             let quats = |i: usize| -> Result<Vec<DQuat>> {
-                Ok(keys[i]
-                    .rotations
-                    .as_ref()
-                    .ok_or_else(|| Error::Invalid(format!("key {i} is a pose without rotations")))?
-                    .iter()
-                    .map(fill::quat)
-                    .collect())
+                fill::key_quats(&keys[i])
+                    .ok_or_else(|| Error::Invalid(format!("key {i} is a pose without rotations")))
             };
             for (a, b, p, q) in context_spans(keys, classes) {
                 let (fa, fb) = (keys[a].frame, keys[b].frame);

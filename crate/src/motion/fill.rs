@@ -237,9 +237,14 @@ fn basis(u: f64) -> [f64; 4] {
     ]
 }
 
-/// A rotation matrix as a unit quaternion.
-pub(crate) fn quat(m: &Mat3<f64>) -> DQuat {
+fn quat(m: &Mat3<f64>) -> DQuat {
     DQuat::from_mat3(&to_glam_f64(m)).normalize()
+}
+
+/// A whole-pose key's rotations as unit quaternions (`None` for a key
+/// without rotations).
+pub(crate) fn key_quats(k: &Keyframe) -> Option<Vec<DQuat>> {
+    Some(k.rotations.as_ref()?.iter().map(quat).collect())
 }
 
 /// The ends of a gap for [`hermite_curve`]: the root position and every
@@ -327,12 +332,7 @@ pub fn hermite(clip: &Bvh, ck: &ClipKeys) -> Result<Motion> {
         )
     };
     let rot = |k: &Keyframe| -> Result<Vec<DQuat>> {
-        Ok(k.rotations
-            .as_ref()
-            .ok_or_else(|| Error::Invalid("a fill needs whole poses".into()))?
-            .iter()
-            .map(quat)
-            .collect())
+        key_quats(k).ok_or_else(|| Error::Invalid("a fill needs whole poses".into()))
     };
     let (qa, qb) = (rot(&ka)?, rot(&kb)?);
     let qp = prev.as_ref().map(rot).transpose()?;
