@@ -255,15 +255,16 @@ def sample_kinds(keys, rng):
     return [int(c) for c in rng.choice([P, R, X], size=len(keys), p=[0.3, 0.4, 0.3])]
 
 
-def fill_keys(n, rng):
+def fill_keys(n, rng, gaps=(10, 180)):
     """Every known frame of a window with gaps to fill (issue 50: captured
     motion repaired from the frames around each gap): runs of consecutive
     known frames (20, or 1-40 frames: one known frame after a gap up to the
-    next gap's context) between gaps of 10-180 frames (log-uniform); the
-    window starts with 20 known frames and ends with a known frame."""
+    next gap's context) between gaps of `gaps` = (lo, hi) frames
+    (log-uniform); the window starts with 20 known frames and ends with a
+    known frame."""
     keys, t = list(range(min(20, n))), min(20, n)
     while t < n:
-        t += int(math.exp(rng.uniform(math.log(10), math.log(180))))
+        t += int(math.exp(rng.uniform(math.log(gaps[0]), math.log(gaps[1]))))
         if t >= n - 1:
             keys.append(n - 1)
             break
@@ -377,7 +378,7 @@ def spread(d, skel):
 
 
 def make_batch(clips, skel, prior, b, n, rng, do_mirror, device, fill_share=0.0, context_base=False,
-               extra_share=0.0):
+               extra_share=0.0, fill_gaps=(10, 180)):
     """b windows of n frames; `extra_share` of them from cmu-extra's locomotion clips
     (segments named extra/...) where one is at least n frames long."""
     xs, gr_, gq_, br, bq, tr, tq, offs = [], [], [], [], [], [], [], []
@@ -390,7 +391,7 @@ def make_batch(clips, skel, prior, b, n, rng, do_mirror, device, fill_share=0.0,
             off = skel.mirror_offsets
         root, quat = turn(root, quat, rng.uniform(-math.pi, math.pi))
         if rng.random() < fill_share:
-            keys = fill_keys(n, rng)
+            keys = fill_keys(n, rng, fill_gaps)
             kinds = [P] * len(keys)
         else:
             # half the windows with intervals of at least 0.5 s (a root path's keys)
@@ -520,7 +521,8 @@ def train(args):
         short = args.short_every > 0 and step % args.short_every == 0
         n = args.short_frames if short else args.frames
         batch = make_batch(clips, skel, prior, max(1, args.batch * args.frames // n), n, rng, args.mirror, dev,
-                           args.fill_share, net.context_base, args.extra_share if short else 0.0)
+                           args.fill_share, net.context_base, args.extra_share if short else 0.0,
+                           args.fill_gaps)
         out = losses(net, skel, batch, w, adv, args.div_tau)
         opt.zero_grad()
         out["total"].backward()
@@ -853,6 +855,8 @@ def main():
     ap.add_argument("--context-base", type=int, default=-1,
                     help="1: over gaps with a whole-pose context frame, motion::fill's context-tangent Hermite curve "
                          "as the base (0: SLERP+LERP; default: the checkpoint's)")
+    ap.add_argument("--fill-gaps", type=lambda v: tuple(int(x) for x in v.split(",")), default=(10, 180),
+                    help="LO,HI: the gap lengths of --fill-share's windows (log-uniform)")
     ap.add_argument("--short-every", type=int, default=0,
                     help="every K-th batch of --short-frames windows (0: never), as many frames in all")
     ap.add_argument("--short-frames", type=int, default=150)
