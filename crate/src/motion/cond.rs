@@ -91,6 +91,10 @@ struct Manifest {
     /// default) or "hermite" ([`crate::motion::fill::hermite_curve`]).
     #[serde(default)]
     context_base: Option<String>,
+    /// A gap-filling network's (`tween_fill`): the longest gap the `model`
+    /// fill gives it ([`crate::motion::fill::method_for`]).
+    #[serde(default)]
+    fill_up_to: Option<usize>,
 }
 
 /// Gaps with context (issue 50; `cond.py`'s `context_spans`): consecutive
@@ -126,6 +130,8 @@ pub struct CondInfo {
     pub variation: f32,
     /// Whether the `model` method runs it for the partial keys it takes.
     pub default_for_partial_keys: bool,
+    /// A gap-filling network's longest gap under the `model` fill.
+    pub fill_up_to: Option<usize>,
 }
 
 /// What the request planner needs of a conditional network's manifest text
@@ -139,6 +145,7 @@ pub fn info_of_manifest(json: &str) -> Result<CondInfo> {
     Ok(CondInfo {
         variation,
         default_for_partial_keys: m.default_for_partial_keys,
+        fill_up_to: m.fill_up_to,
     })
 }
 
@@ -186,6 +193,7 @@ mod model {
         pub default_for_partial_keys: bool,
         /// Whether its base over gaps with context is the Hermite curve.
         context_base: bool,
+        fill_up_to: Option<usize>,
     }
 
     /// Per frame of a group of keys: (s, frames since the previous key / P,
@@ -307,15 +315,22 @@ mod model {
                 default_variation,
                 default_for_partial_keys: m.default_for_partial_keys,
                 context_base,
+                fill_up_to: m.fill_up_to,
             })
         }
 
         /// Loads `tween_cond.onnx` and its manifest from a folder.
         pub fn load_dir(dir: &std::path::Path) -> Result<Self> {
+            Self::load_named(dir, "tween_cond")
+        }
+
+        /// Loads `NAME.onnx` and `NAME.manifest.json` from a folder (the
+        /// gap-filling network is `tween_fill`).
+        pub fn load_named(dir: &std::path::Path, name: &str) -> Result<Self> {
             let read = |n: &str| crate::runtime::read_file(dir, n);
-            let manifest = String::from_utf8(read("tween_cond.manifest.json")?)
+            let manifest = String::from_utf8(read(&format!("{name}.manifest.json"))?)
                 .map_err(|e| Error::Invalid(e.to_string()))?;
-            Self::new(&read("tween_cond.onnx")?, &manifest)
+            Self::new(&read(&format!("{name}.onnx"))?, &manifest)
         }
 
         /// Prepares the network for requests of any length
@@ -329,6 +344,7 @@ mod model {
             CondInfo {
                 variation: self.default_variation,
                 default_for_partial_keys: self.default_for_partial_keys,
+                fill_up_to: self.fill_up_to,
             }
         }
 

@@ -86,14 +86,16 @@ pub const DEFAULT_CONTEXT: Context = Context {
 /// the curve through the context's velocities is the better fill.
 pub const HERMITE_MAX_GAP: usize = 45;
 
-/// What fills a gap of `len` frames when `method` is asked: "model" is
-/// "hermite" up to [`HERMITE_MAX_GAP`] frames and the networks' default
-/// beyond; every other method is itself.
-pub fn method_for(method: &str, len: usize) -> &str {
-    if method == "model" && len <= HERMITE_MAX_GAP {
-        "hermite"
-    } else {
-        method
+/// What fills a gap of `len` frames when `method` is asked: "model" is the
+/// gap-filling network where one is loaded (`fill_up_to`: the longest gap
+/// its manifest gives it) and the gap is that short, else "hermite" up to
+/// [`HERMITE_MAX_GAP`] frames and the networks' default beyond; every
+/// other method is itself.
+pub fn method_for(method: &str, len: usize, fill_up_to: Option<usize>) -> &str {
+    match method {
+        "model" if fill_up_to.is_some_and(|m| len <= m) => "fill",
+        "model" if len <= HERMITE_MAX_GAP => "hermite",
+        _ => method,
     }
 }
 
@@ -417,6 +419,20 @@ mod tests {
                 && Context::parse("1,2,3").is_err()
                 && Context::parse("x").is_err()
         );
+    }
+
+    #[test]
+    fn the_model_fill_chooses_by_gap_length() {
+        assert_eq!(method_for("model", 10, None), "hermite");
+        assert_eq!(method_for("model", HERMITE_MAX_GAP + 1, None), "model");
+        // a gap-filling network takes the gaps its manifest claims
+        assert_eq!(method_for("model", 10, Some(45)), "fill");
+        assert_eq!(method_for("model", 45, Some(45)), "fill");
+        assert_eq!(method_for("model", 46, Some(45)), "model");
+        assert_eq!(method_for("model", 120, Some(180)), "fill");
+        // a named method is itself
+        assert_eq!(method_for("hermite", 500, Some(45)), "hermite");
+        assert_eq!(method_for("residual", 10, Some(45)), "residual");
     }
 
     #[test]

@@ -18,6 +18,10 @@
 //! - `generator`, `residual`, `cond`: that pipeline (the residual network
 //!   takes whole-pose keys only, no DNA, and always makes keys exact; the
 //!   conditional network takes what [`cond_takes`] accepts).
+//! - `fill`: the gap-filling network (a conditional network trained on
+//!   gaps in captured motion, `tween_fill`), whole-pose keys only; the
+//!   `model` fill ([`super::fill::method_for`]) sends it the gaps its
+//!   manifest claims.
 //! - `slerp`, `zerovel`: the interpolation baselines (variation 0).
 //!
 //! The variation is the request's when it gives one, else the chosen
@@ -36,6 +40,8 @@ pub enum Pipeline {
     Residual,
     /// The conditional network (whole-pose, root-only and 2-D keys).
     Cond,
+    /// The gap-filling network (whole-pose keys around gaps).
+    Fill,
     /// The generator, RC-FK, path predictor and post-processing (Fig. 5.1).
     Generator,
     /// SLERP+LERP interpolation.
@@ -46,11 +52,12 @@ pub enum Pipeline {
 
 impl Pipeline {
     /// The name results and messages carry: "residual", "generator",
-    /// "slerp", "zerovel" or "cond".
+    /// "slerp", "zerovel", "cond" or "fill".
     pub fn name(self) -> &'static str {
         match self {
             Pipeline::Residual => "residual",
             Pipeline::Cond => "cond",
+            Pipeline::Fill => "fill",
             Pipeline::Generator => "generator",
             Pipeline::Slerp => "slerp",
             Pipeline::ZeroVelocity => "zerovel",
@@ -59,7 +66,15 @@ impl Pipeline {
 }
 
 /// The methods a request may name.
-pub const METHODS: [&str; 6] = ["model", "generator", "residual", "cond", "slerp", "zerovel"];
+pub const METHODS: [&str; 7] = [
+    "model",
+    "generator",
+    "residual",
+    "cond",
+    "fill",
+    "slerp",
+    "zerovel",
+];
 
 /// What is loaded, as the planner needs it.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -71,6 +86,8 @@ pub struct Loaded {
     pub residual: Option<ResidualInfo>,
     /// The conditional network, when loaded.
     pub cond: Option<CondInfo>,
+    /// The gap-filling network, when loaded.
+    pub fill: Option<CondInfo>,
 }
 
 /// The residual network's manifest, as the planner needs it.
@@ -85,7 +102,7 @@ pub struct ResidualInfo {
 /// A request, as the planner needs it.
 #[derive(Copy, Clone, Debug)]
 pub struct Ask<'a> {
-    /// `model`, `generator`, `residual`, `cond`, `slerp` or `zerovel`.
+    /// `model`, `generator`, `residual`, `cond`, `fill`, `slerp` or `zerovel`.
     pub method: &'a str,
     /// The keys.
     pub keys: &'a [Keyframe],
@@ -178,6 +195,18 @@ pub fn plan(ask: &Ask, loaded: &Loaded) -> Result<Plan> {
             }
             chosen(Pipeline::Cond, c.variation)
         }
+        "fill" => {
+            let f = loaded
+                .fill
+                .ok_or_else(|| Error::Invalid("the gap-filling network is not loaded".into()))?;
+            if !residual_takes(ask.keys, ask.dna) || !ask.post_process {
+                return Err(Error::Invalid(format!(
+                    "method fill takes whole-pose keys (the frames around a gap) without Motion DNA, \
+                     no two more than {MAX_GAP} frames apart, and keeps them exact"
+                )));
+            }
+            chosen(Pipeline::Fill, f.variation)
+        }
         "slerp" => chosen(Pipeline::Slerp, 0.0),
         "zerovel" => chosen(Pipeline::ZeroVelocity, 0.0),
         other => Err(Error::Invalid(format!(
@@ -213,6 +242,7 @@ mod tests {
             default_for_whole_pose_keys: true,
         }),
         cond: None,
+        fill: None,
     };
 
     fn ask<'a>(method: &'a str, keys: &'a [Keyframe]) -> Ask<'a> {
@@ -325,6 +355,7 @@ mod tests {
             residual: None,
             generator: None,
             cond: None,
+            fill: None,
         };
         assert!(plan(&ask("residual", &poses), &none).is_err());
         assert!(plan(&ask("model", &poses), &none).is_err());
@@ -337,6 +368,7 @@ mod tests {
             cond: Some(CondInfo {
                 variation: 0.9,
                 default_for_partial_keys,
+                fill_up_to: None,
             }),
             ..LOADED
         };
@@ -385,5 +417,36 @@ mod tests {
             ..ask("cond", &roots)
         };
         assert!(plan(&dna, &with_cond(true)).is_err());
+    }
+
+    #[test]
+    fn the_fill_method_runs_the_gap_filling_network_on_whole_poses_only() {
+        let with_fill = Loaded {
+            fill: Some(CondInfo {
+                variation: 1.0,
+                default_for_partial_keys: false,
+                fill_up_to: Some(45),
+            }),
+            ..LOADED
+        };
+        let poses = [pose(0), pose(1), pose(40)];
+        let p = plan(&ask("fill", &poses), &with_fill).unwrap();
+        assert_eq!((p.pipeline, p.variation), (Pipeline::Fill, 1.0));
+        assert_eq!(p.pipeline.name(), "fill");
+        // `model` never plans it: the fill chooses it by gap length
+        let p = plan(&ask("model", &poses), &with_fill).unwrap();
+        assert_eq!(p.pipeline, Pipeline::Residual);
+        let e = plan(&ask("fill", &poses), &LOADED).unwrap_err().to_string();
+        assert!(e.contains("gap-filling network is not loaded"), "{e}");
+        let roots = [root(0), root(60)];
+        let e = plan(&ask("fill", &roots), &with_fill)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("whole-pose keys"), "{e}");
+        let raw = Ask {
+            post_process: false,
+            ..ask("fill", &poses)
+        };
+        assert!(plan(&raw, &with_fill).is_err());
     }
 }

@@ -19,6 +19,8 @@ pub struct Models<'a> {
     pub residual: Option<&'a ResidualModel>,
     /// The conditional network.
     pub cond: Option<&'a CondModel>,
+    /// The gap-filling network (a conditional network trained on gaps).
+    pub fill: Option<&'a CondModel>,
 }
 
 impl Models<'_> {
@@ -28,6 +30,7 @@ impl Models<'_> {
             generator: self.generator.map(|g| g.default_variation),
             residual: self.residual.map(|r| r.info()),
             cond: self.cond.map(|c| c.info()),
+            fill: self.fill.map(|c| c.info()),
         }
     }
 }
@@ -35,7 +38,7 @@ impl Models<'_> {
 /// A request in the form every front-end reads.
 #[derive(Clone, Debug)]
 pub struct Request {
-    /// `model`, `generator`, `residual`, `cond`, `slerp` or `zerovel`.
+    /// `model`, `generator`, `residual`, `cond`, `fill`, `slerp` or `zerovel`.
     pub method: String,
     /// The keys.
     pub keys: Vec<Keyframe>,
@@ -115,8 +118,11 @@ pub fn run(models: &Models, p: Plan, req: Request, now_ms: &dyn Fn() -> f64) -> 
                 .then(|| lock_feet(&mut m, &r.template, &req.keys, &FootLock::default()));
             Ok(one_stage(m, feet))
         }
-        Pipeline::Cond => {
-            let c = models.cond.ok_or_else(|| missing("conditional network"))?;
+        Pipeline::Cond | Pipeline::Fill => {
+            let c = match p.pipeline {
+                Pipeline::Fill => models.fill.ok_or_else(|| missing("gap-filling network"))?,
+                _ => models.cond.ok_or_else(|| missing("conditional network"))?,
+            };
             let mut m = c.synthesize(&req.keys, req.frames, p.variation, req.seed)?;
             let t_net = now_ms();
             let before = super::pipeline::key_error(&m, &req.keys, &c.parents, &c.offsets);

@@ -154,6 +154,76 @@ fn the_cli_fills_gaps_and_keeps_every_other_byte() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// A gap-filling network (`tween_fill.onnx` with `fill_up_to` in its
+/// manifest) takes the `model` fill's gaps up to that length, the longer
+/// ones stay with the default network, and `--method fill` names it. The
+/// stand-in here is the conditional network itself under the fill's name,
+/// so on the short gap the `model` fill must write what `--method cond`
+/// writes, line for line.
+#[test]
+fn a_gap_filling_network_takes_the_gaps_its_manifest_claims() {
+    if models().is_none() {
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("deeprep_fillnet_{}", std::process::id()));
+    let lib = dir.join("models");
+    std::fs::create_dir_all(&lib).unwrap();
+    let src = root().join("models/onnx");
+    for e in std::fs::read_dir(&src).unwrap() {
+        let e = e.unwrap();
+        if e.file_type().unwrap().is_file() {
+            std::fs::copy(e.path(), lib.join(e.file_name())).unwrap();
+        }
+    }
+    std::fs::copy(src.join("tween_cond.onnx"), lib.join("tween_fill.onnx")).unwrap();
+    let mut manifest: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(src.join("tween_cond.manifest.json")).unwrap(),
+    )
+    .unwrap();
+    manifest["name"] = "tween_fill".into();
+    manifest["fill_up_to"] = 45.into();
+    std::fs::write(lib.join("tween_fill.manifest.json"), manifest.to_string()).unwrap();
+    let input = dir.join("in.bvh");
+    let text = clip_text(300);
+    std::fs::write(&input, &text).unwrap();
+    let fill_with = |method: &str| {
+        let out = dir.join(format!("{method}.bvh"));
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_deeprep"))
+            .args(["inbetween", "--from-bvh", input.to_str().unwrap()])
+            .args(["--fill", "100-159", "--fill", "200-209", "--method", method])
+            .args([
+                "-o",
+                out.to_str().unwrap(),
+                "--models",
+                lib.to_str().unwrap(),
+            ])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr).to_string();
+        assert!(o.status.success(), "{method}: {err}");
+        (std::fs::read_to_string(&out).unwrap(), err)
+    };
+    let (model, info) = fill_with("model");
+    assert!(
+        info.contains("200-209: pipeline fill") && info.contains("100-159: pipeline residual"),
+        "{info}"
+    );
+    let (cond, _) = fill_with("cond");
+    let (fill, info) = fill_with("fill");
+    assert!(info.contains("100-159: pipeline fill"), "{info}");
+    let rows = |t: &str, frames: std::ops::RangeInclusive<usize>| -> Vec<String> {
+        let first = t.lines().position(|l| l.starts_with("Frame Time")).unwrap() + 1;
+        frames
+            .map(|f| t.lines().nth(first + f).unwrap().to_string())
+            .collect()
+    };
+    assert_eq!(rows(&model, 200..=209), rows(&cond, 200..=209));
+    assert_eq!(rows(&fill, 100..=159), rows(&cond, 100..=159));
+    // and the check can fail: the default network's gap differs from it
+    assert_ne!(rows(&model, 100..=159), rows(&cond, 100..=159));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 /// On motion a cubic can hold (the root at constant velocity, every joint
 /// at a constant angular rate about a fixed axis), the Hermite curve with
 /// the context's tangents gives the motion back.

@@ -720,8 +720,11 @@ def captured_speed(skel, clips):
 
 
 def export(args):
-    """models/onnx/tween_cond.onnx (the moving average of --ckpt), its
-    manifest, the network's parity fixture and the motion fixture."""
+    """models/onnx/NAME.onnx (--name, default tween_cond; the moving average
+    of --ckpt), its manifest and the network's parity fixture, and for
+    tween_cond the motion fixture. A gap-filling network (--name tween_fill)
+    carries --fill-up-to in its manifest: the longest gap the `model` fill
+    gives it (motion::fill::method_for)."""
     import onnxruntime as ort
     from deeprep_train.motion.export import fixture
     from deeprep_train.export.util import ONNX_DIR, git_commit, write_json
@@ -734,7 +737,8 @@ def export(args):
     cin = net.core.inp.in_channels
     clips = Clips(d, "train")
     gen_manifest = json.load(open(os.path.join(ONNX_DIR, "tween_generator.manifest.json")))
-    path = os.path.join(ONNX_DIR, "tween_cond.onnx")
+    name = args.name
+    path = os.path.join(ONNX_DIR, f"{name}.onnx")
     noise = torch.zeros(Z)
 
     def window(case_index, n):
@@ -749,13 +753,17 @@ def export(args):
     with torch.no_grad():
         ref = net(x).numpy()
     sess = ort.InferenceSession(path, providers=["CPUExecutionProvider"])
-    parity = fixture("tween_cond", sess, {"x": x.numpy()}, ref)
+    parity = fixture(name, sess, {"x": x.numpy()}, ref)
     prior_m = quat_to_mat(prior)
-    write_json(os.path.join(ONNX_DIR, "tween_cond.manifest.json"), {
-        "name": "tween_cond",
+    fill = {"fill_up_to": args.fill_up_to} if args.fill_up_to else {}
+    write_json(os.path.join(ONNX_DIR, f"{name}.manifest.json"), {
+        "name": name,
         "kind": "cond-tween",
-        "description": "one conditional in-betweening network for whole-pose, root-only and 2-D keys "
-                       "(train/deeprep_train/motion/cond.py; issue 47)",
+        "description": ("the conditional network fine-tuned on gaps in captured motion, whole-pose keys around "
+                        f"gaps (train/deeprep_train/motion/cond.py; issue 50): the `model` fill's network for gaps "
+                        f"up to {args.fill_up_to} frames" if fill else
+                        "one conditional in-betweening network for whole-pose, root-only and 2-D keys "
+                        "(train/deeprep_train/motion/cond.py; issue 47)"),
         "inputs": [{"name": "x", "shape": [1, cin, "frames"],
                     "channels": "base root / scale (3), base 6D per rotating joint (6K), whole-pose keys' phase (4: "
                                 "s, since / 60, to / 60, gate), whole-pose flag (1), all keys' phase (4), 2-D-or-pose "
@@ -780,8 +788,12 @@ def export(args):
         "default_for_partial_keys": bool(args.default_for_partial_keys),
         "context_base": "hermite" if net.context_base else "slerp",
         "captured_joint_speed": captured_speed(skel, clips),
+        **fill,
     })
-    convert("tween_cond")
+    convert(name)
+    if name != "tween_cond":
+        print(f"exported {path} (step {s['step']}), parity {parity:.2e}")
+        return
     # the motion fixture, from the float16 file as shipped
     sess = ort.InferenceSession(path, providers=["CPUExecutionProvider"])
     cases = []
@@ -855,6 +867,10 @@ def main():
     ap.add_argument("--context-base", type=int, default=-1,
                     help="1: over gaps with a whole-pose context frame, motion::fill's context-tangent Hermite curve "
                          "as the base (0: SLERP+LERP; default: the checkpoint's)")
+    ap.add_argument("--name", default="tween_cond",
+                    help="export: the file name under models/onnx (tween_fill: the gap-filling network)")
+    ap.add_argument("--fill-up-to", type=int, default=0,
+                    help="export: the longest gap the `model` fill gives this network (its manifest's fill_up_to)")
     ap.add_argument("--fill-gaps", type=lambda v: tuple(int(x) for x in v.split(",")), default=(10, 180),
                     help="LO,HI: the gap lengths of --fill-share's windows (log-uniform)")
     ap.add_argument("--short-every", type=int, default=0,

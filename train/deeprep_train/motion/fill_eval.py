@@ -46,7 +46,10 @@ METHODS = {
     "residual-2": ["--method", "residual", "--context", "1,1"],
     # the conditional network (issue 47), every context frame a whole-pose key
     "cond": ["--method", "cond"],
-    # the default: motion::fill::method_for (Hermite up to 45 frames, the network beyond)
+    # the gap-filling network (models/onnx/tween_fill.onnx, issue 50), every context frame a key
+    "fill": ["--method", "fill"],
+    # the default: motion::fill::method_for (the gap-filling network on the gaps its manifest
+    # gives it where one is bundled, else Hermite up to 45 frames; the residual network beyond)
     "model": ["--method", "model"],
 }
 

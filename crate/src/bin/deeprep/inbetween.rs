@@ -115,8 +115,8 @@ fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
 }
 
 /// What the models folder holds, for the planner (`motion::plan`): the
-/// generator's default variation and the residual network's manifest, each
-/// absent when its files are (interpolation needs neither).
+/// generator's default variation and the other networks' manifests, each
+/// absent when its files are (interpolation needs none).
 fn loaded(o: &Opts) -> Result<deeprep::motion::plan::Loaded, String> {
     let dir = std::path::Path::new(&o.models);
     let read = |name: &str| -> Result<Option<String>, String> {
@@ -142,14 +142,19 @@ fn loaded(o: &Opts) -> Result<deeprep::motion::plan::Loaded, String> {
         }
         None => None,
     };
-    let cond = match read("tween_cond.manifest.json")? {
-        Some(t) => Some(deeprep::motion::cond::info_of_manifest(&t).map_err(|e| e.to_string())?),
-        None => None,
+    let cond_info = |name: &str| -> Result<_, String> {
+        match read(name)? {
+            Some(t) => Ok(Some(
+                deeprep::motion::cond::info_of_manifest(&t).map_err(|e| format!("{name}: {e}"))?,
+            )),
+            None => Ok(None),
+        }
     };
     Ok(deeprep::motion::plan::Loaded {
         generator,
         residual,
-        cond,
+        cond: cond_info("tween_cond.manifest.json")?,
+        fill: cond_info("tween_fill.manifest.json")?,
     })
 }
 
@@ -187,14 +192,22 @@ fn synthesize(
         ),
         _ => (None, None),
     };
-    let cond = match plan.pipeline {
-        Pipeline::Cond => Some(CondModel::load_dir(dir).map_err(|e| e.to_string())?),
-        _ => None,
+    let (cond, fill) = match plan.pipeline {
+        Pipeline::Cond => (
+            Some(CondModel::load_dir(dir).map_err(|e| e.to_string())?),
+            None,
+        ),
+        Pipeline::Fill => (
+            None,
+            Some(CondModel::load_named(dir, "tween_fill").map_err(|e| e.to_string())?),
+        ),
+        _ => (None, None),
     };
     let models = Models {
         generator: generator.as_ref(),
         residual: residual.as_ref(),
         cond: cond.as_ref(),
+        fill: fill.as_ref(),
     };
     let start = std::time::Instant::now();
     let clock = move || start.elapsed().as_secs_f64() * 1000.0;
@@ -220,7 +233,7 @@ fn synthesize(
                 );
             }
         }
-        Pipeline::Cond => {
+        Pipeline::Cond | Pipeline::Fill => {
             let e = s.key_error;
             info += &format!(
                 "; key error before post-processing: root {:.3}, joints {:.3}; after: root {:.3}, joints {:.3}; stages ms: network {:.1}, post {:.1}",
@@ -297,7 +310,7 @@ fn dna_poses(
 
 /// Whether `--method` runs a network (which reads the model's skeleton only).
 fn uses_network(method: &str) -> bool {
-    matches!(method, "model" | "generator" | "residual" | "cond")
+    matches!(method, "model" | "generator" | "residual" | "cond" | "fill")
 }
 
 /// The networks' skeleton (the generator's manifest; the residual
@@ -329,8 +342,9 @@ fn fill(
         None => fill::DEFAULT_CONTEXT,
     };
     let mut info: Vec<String> = Vec::new();
+    let fill_up_to = loaded(o)?.fill.and_then(|f| f.fill_up_to);
     let filled = fill::fill(b, &gaps, ctx, &mut |clip, ck, gap| {
-        let method = fill::method_for(&o.method, gap.len());
+        let method = fill::method_for(&o.method, gap.len(), fill_up_to);
         if method == "hermite" {
             info.push(format!(
                 "{}-{}: a cubic Hermite curve with the context's tangents",

@@ -16,6 +16,7 @@ pub struct Inbetweener {
     inner: crate::motion::pipeline::TweenModels,
     residual: Option<crate::motion::residual::ResidualModel>,
     cond: Option<crate::motion::cond::CondModel>,
+    fill: Option<crate::motion::cond::CondModel>,
 }
 
 /// One synthesized motion.
@@ -214,6 +215,7 @@ impl Inbetweener {
                 .map_err(js_err)?,
             residual: None,
             cond: None,
+            fill: None,
         })
     }
 
@@ -227,7 +229,7 @@ impl Inbetweener {
         if let Some(r) = &self.residual {
             r.prepare_any_length().map_err(js_err)?;
         }
-        if let Some(c) = &self.cond {
+        for c in [&self.cond, &self.fill].into_iter().flatten() {
             c.prepare_any_length().map_err(js_err)?;
         }
         Ok(())
@@ -372,6 +374,24 @@ impl Inbetweener {
         self.cond.is_some()
     }
 
+    /// Adds the gap-filling network (the bytes of `tween_fill.onnx` and its
+    /// manifest's text): `fillGaps` runs it for method `fill`, and for
+    /// method `model` on the gaps its manifest gives it (`fill_up_to`).
+    #[wasm_bindgen(js_name = setFill)]
+    pub fn set_fill(&mut self, onnx: &[u8], manifest: &str) -> Result<(), JsError> {
+        let m = crate::motion::cond::CondModel::new(onnx, manifest).map_err(js_err)?;
+        crate::motion::clip::check_skeleton(&m.template, &self.inner.template).map_err(js_err)?;
+        m.prepare_any_length().map_err(js_err)?;
+        self.fill = Some(m);
+        Ok(())
+    }
+
+    /// Whether [`Inbetweener::set_fill`] has loaded the gap-filling network.
+    #[wasm_bindgen(getter, js_name = hasFill)]
+    pub fn has_fill(&self) -> bool {
+        self.fill.is_some()
+    }
+
     /// Whether [`Inbetweener::set_residual`] has loaded the residual network.
     #[wasm_bindgen(getter, js_name = hasResidual)]
     pub fn has_residual(&self) -> bool {
@@ -514,6 +534,7 @@ impl Inbetweener {
             generator: Some(&self.inner),
             residual: self.residual.as_ref(),
             cond: self.cond.as_ref(),
+            fill: self.fill.as_ref(),
         }
     }
 
