@@ -255,16 +255,21 @@ def sample_kinds(keys, rng):
     return [int(c) for c in rng.choice([P, R, X], size=len(keys), p=[0.3, 0.4, 0.3])]
 
 
-def fill_keys(n, rng, gaps=(10, 180)):
+def fill_keys(n, rng, gaps=(10, 180), law="log"):
     """Every known frame of a window with gaps to fill (issue 50: captured
     motion repaired from the frames around each gap): runs of consecutive
     known frames (20, or 1-40 frames: one known frame after a gap up to the
-    next gap's context) between gaps of `gaps` = (lo, hi) frames
-    (log-uniform); the window starts with 20 known frames and ends with a
-    known frame."""
+    next gap's context) between gaps of `gaps` = (lo, hi) frames; the
+    window starts with 20 known frames and ends with a known frame. `law`
+    "log": gap lengths log-uniform (so the frames in gaps spread evenly over
+    the lengths); "inverse": density 1/L^2 (the frames in gaps log-uniform
+    over the lengths: as many in gaps of 8-16 frames as of 16-32)."""
     keys, t = list(range(min(20, n))), min(20, n)
     while t < n:
-        t += int(math.exp(rng.uniform(math.log(gaps[0]), math.log(gaps[1]))))
+        if law == "inverse":
+            t += int(1.0 / rng.uniform(1.0 / gaps[1], 1.0 / gaps[0]))
+        else:
+            t += int(math.exp(rng.uniform(math.log(gaps[0]), math.log(gaps[1]))))
         if t >= n - 1:
             keys.append(n - 1)
             break
@@ -378,7 +383,7 @@ def spread(d, skel):
 
 
 def make_batch(clips, skel, prior, b, n, rng, do_mirror, device, fill_share=0.0, context_base=False,
-               extra_share=0.0, fill_gaps=(10, 180)):
+               extra_share=0.0, fill_gaps=(10, 180), fill_law="log"):
     """b windows of n frames; `extra_share` of them from cmu-extra's locomotion clips
     (segments named extra/...) where one is at least n frames long."""
     xs, gr_, gq_, br, bq, tr, tq, offs = [], [], [], [], [], [], [], []
@@ -391,7 +396,7 @@ def make_batch(clips, skel, prior, b, n, rng, do_mirror, device, fill_share=0.0,
             off = skel.mirror_offsets
         root, quat = turn(root, quat, rng.uniform(-math.pi, math.pi))
         if rng.random() < fill_share:
-            keys = fill_keys(n, rng, fill_gaps)
+            keys = fill_keys(n, rng, fill_gaps, fill_law)
             kinds = [P] * len(keys)
         else:
             # half the windows with intervals of at least 0.5 s (a root path's keys)
@@ -522,7 +527,7 @@ def train(args):
         n = args.short_frames if short else args.frames
         batch = make_batch(clips, skel, prior, max(1, args.batch * args.frames // n), n, rng, args.mirror, dev,
                            args.fill_share, net.context_base, args.extra_share if short else 0.0,
-                           args.fill_gaps)
+                           args.fill_gaps, args.fill_law)
         out = losses(net, skel, batch, w, adv, args.div_tau)
         opt.zero_grad()
         out["total"].backward()
@@ -867,6 +872,8 @@ def main():
     ap.add_argument("--context-base", type=int, default=-1,
                     help="1: over gaps with a whole-pose context frame, motion::fill's context-tangent Hermite curve "
                          "as the base (0: SLERP+LERP; default: the checkpoint's)")
+    ap.add_argument("--fill-law", choices=["log", "inverse"], default="log",
+                    help="the gap lengths' law in fill layouts: log-uniform, or density 1/L^2 (more short gaps)")
     ap.add_argument("--name", default="tween_cond",
                     help="export: the file name under models/onnx (tween_fill: the gap-filling network)")
     ap.add_argument("--fill-up-to", type=int, default=0,
