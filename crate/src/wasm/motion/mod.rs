@@ -361,10 +361,7 @@ impl Inbetweener {
     /// and 2-D keys when its manifest makes it the default for them.
     #[wasm_bindgen(js_name = setCond)]
     pub fn set_cond(&mut self, onnx: &[u8], manifest: &str) -> Result<(), JsError> {
-        let m = crate::motion::cond::CondModel::new(onnx, manifest).map_err(js_err)?;
-        crate::motion::clip::check_skeleton(&m.template, &self.inner.template).map_err(js_err)?;
-        m.prepare_any_length().map_err(js_err)?;
-        self.cond = Some(m);
+        self.cond = Some(self.cond_model(onnx, manifest)?);
         Ok(())
     }
 
@@ -379,10 +376,7 @@ impl Inbetweener {
     /// method `model` on the gaps its manifest gives it (`fill_up_to`).
     #[wasm_bindgen(js_name = setFill)]
     pub fn set_fill(&mut self, onnx: &[u8], manifest: &str) -> Result<(), JsError> {
-        let m = crate::motion::cond::CondModel::new(onnx, manifest).map_err(js_err)?;
-        crate::motion::clip::check_skeleton(&m.template, &self.inner.template).map_err(js_err)?;
-        m.prepare_any_length().map_err(js_err)?;
-        self.fill = Some(m);
+        self.fill = Some(self.cond_model(onnx, manifest)?);
         Ok(())
     }
 
@@ -528,6 +522,19 @@ impl Request {
 }
 
 impl Inbetweener {
+    /// A conditional network (the conditional or the gap-filling one) on
+    /// this model's skeleton, prepared for requests of any length.
+    fn cond_model(
+        &self,
+        onnx: &[u8],
+        manifest: &str,
+    ) -> Result<crate::motion::cond::CondModel, JsError> {
+        let m = crate::motion::cond::CondModel::new(onnx, manifest).map_err(js_err)?;
+        crate::motion::clip::check_skeleton(&m.template, &self.inner.template).map_err(js_err)?;
+        m.prepare_any_length().map_err(js_err)?;
+        Ok(m)
+    }
+
     /// The loaded networks, as `motion::serve` takes them.
     fn models(&self) -> crate::motion::serve::Models<'_> {
         crate::motion::serve::Models {
