@@ -147,7 +147,7 @@ export class DeeprepClient {
    *  other frame comes back exactly as it was. Bad ranges (reversed, outside the clip, overlapping,
    *  touching the clip's ends) reject with E_BAD_INPUT. */
   fillGaps(bvh: string | Uint8Array | ArrayBuffer, gaps: { start: number; end: number }[],
-    opts?: { method?: 'model' | 'residual' | 'slerp' | 'zerovel' | 'hermite'; context?: { before?: number; after?: number };
+    opts?: { method?: 'model' | 'residual' | 'cond' | 'slerp' | 'zerovel' | 'hermite'; context?: { before?: number; after?: number };
       signal?: AbortSignal }): Promise<SynthesisResult>;
   /** A humanoid clip (BVH text or bytes) on another skeleton: `to` is BVH text or bytes whose
    *  skeleton receives the motion (its own motion is ignored), or 'model' (the default). `map`

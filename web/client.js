@@ -136,7 +136,7 @@ export class DeeprepClient {
   /** Fills gaps in captured motion: `bvh` is BVH text or bytes (the model's skeleton or another
    * humanoid's, any frame rate), `gaps` a list of { start, end } (inclusive frames of the clip).
    * Each gap is synthesized from `context.before` frames before it and `context.after` after it
-   * (defaults 20 and 1) by `method` ('model', 'residual', 'slerp', 'zerovel' or 'hermite');
+   * (defaults 20 and 1) by `method` ('model', 'residual', 'cond', 'slerp', 'zerovel' or 'hermite');
    * every other frame comes back exactly as it was. Bad ranges (reversed, outside the clip,
    * overlapping, touching the clip's ends) reject with E_BAD_INPUT. */
   fillGaps(bvh, gaps, { method = 'model', context = {}, signal } = {}) {

@@ -332,7 +332,7 @@ onmessage = async (e) => {
       postMessage({ type: 'progress', id: msg.id, stage: 'loading the residual network', fraction: 0.05 });
       model.setResidual(await fetchBytes(urls.residual), residualManifest);
     }
-    if ((msg.type === 'synthesize' || msg.type === 'synthesizeFromBvh') && msg.method === 'cond' && model && !model.hasCond && condManifest) {
+    if (['synthesize', 'synthesizeFromBvh', 'fillGaps'].includes(msg.type) && msg.method === 'cond' && model && !model.hasCond && condManifest) {
       postMessage({ type: 'progress', id: msg.id, stage: 'loading the conditional network', fraction: 0.05 });
       model.setCond(await fetchBytes(urls.cond), condManifest);
     }

@@ -68,6 +68,9 @@ try {
   }
   const reversed = await client.fillGaps(fromClip.bvh, [{ start: 60, end: 30 }]).then(() => null, (e) => e);
   if (reversed?.code !== 'E_BAD_INPUT' || !/reversed/.test(reversed.message)) throw new Error(`a reversed gap: ${reversed?.code} ${reversed?.message}`);
+  // by the conditional network, which the worker loads on this first use
+  const byCond = await client.fillGaps(fromClip.bvh, [{ start: 30, end: 60 }], { method: 'cond' });
+  if (byCond.ran !== 'cond' || byCond.frames !== 121) throw new Error(`fillGaps by cond: ran '${byCond.ran}', ${byCond.frames} frames`);
   // another humanoid skeleton (MotionBuilder names, A-pose arms, a fifth of the model's size):
   // the clip retargeted onto it, in-betweened there (retargeted onto the model's skeleton and
   // back), and a skeleton without legs refused with the missing roles named
