@@ -879,7 +879,7 @@ def main():
     ap.add_argument("--fill-up-to", type=int, default=0,
                     help="export: the longest gap the `model` fill gives this network (its manifest's fill_up_to)")
     ap.add_argument("--fill-gaps", type=lambda v: tuple(int(x) for x in v.split(",")), default=(10, 180),
-                    help="LO,HI: the gap lengths of --fill-share's windows (log-uniform)")
+                    help="LO,HI: the gap lengths of --fill-share's windows (their law: --fill-law)")
     ap.add_argument("--short-every", type=int, default=0,
                     help="every K-th batch of --short-frames windows (0: never), as many frames in all")
     ap.add_argument("--short-frames", type=int, default=150)

@@ -181,28 +181,24 @@ fn synthesize(
     };
     let plan = deeprep::motion::plan::plan(&req.ask(), &loaded(o)?).map_err(|e| e.to_string())?;
     let dir = std::path::Path::new(&o.models);
-    let (generator, residual) = match plan.pipeline {
-        Pipeline::Generator => (
-            Some(TweenModels::load_dir(dir).map_err(|e| e.to_string())?),
-            None,
-        ),
-        Pipeline::Residual => (
-            None,
-            Some(ResidualModel::load_dir(dir).map_err(|e| e.to_string())?),
-        ),
-        _ => (None, None),
-    };
-    let (cond, fill) = match plan.pipeline {
-        Pipeline::Cond => (
-            Some(CondModel::load_dir(dir).map_err(|e| e.to_string())?),
-            None,
-        ),
-        Pipeline::Fill => (
-            None,
-            Some(CondModel::load_named(dir, "tween_fill").map_err(|e| e.to_string())?),
-        ),
-        _ => (None, None),
-    };
+    // only what the plan runs is loaded
+    let runs = |p: Pipeline| plan.pipeline == p;
+    let generator = runs(Pipeline::Generator)
+        .then(|| TweenModels::load_dir(dir))
+        .transpose()
+        .map_err(|e| e.to_string())?;
+    let residual = runs(Pipeline::Residual)
+        .then(|| ResidualModel::load_dir(dir))
+        .transpose()
+        .map_err(|e| e.to_string())?;
+    let cond = runs(Pipeline::Cond)
+        .then(|| CondModel::load_named(dir, "tween_cond"))
+        .transpose()
+        .map_err(|e| e.to_string())?;
+    let fill = runs(Pipeline::Fill)
+        .then(|| CondModel::load_named(dir, "tween_fill"))
+        .transpose()
+        .map_err(|e| e.to_string())?;
     let models = Models {
         generator: generator.as_ref(),
         residual: residual.as_ref(),
