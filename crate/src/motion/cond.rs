@@ -95,6 +95,32 @@ struct Manifest {
     /// fill gives it ([`crate::motion::fill::method_for`]).
     #[serde(default)]
     fill_up_to: Option<usize>,
+    /// ... and the shortest (default 1).
+    #[serde(default)]
+    fill_from: Option<usize>,
+}
+
+impl Manifest {
+    /// The gap lengths the `model` fill gives a gap-filling network:
+    /// `fill_from..=fill_up_to`, checked.
+    fn fill_gaps(&self) -> Result<Option<(usize, usize)>> {
+        match (self.fill_from, self.fill_up_to) {
+            (None, None) => Ok(None),
+            (from, Some(hi)) => {
+                let lo = from.unwrap_or(1);
+                if lo == 0 || lo > hi {
+                    return Err(Error::Invalid(format!(
+                        "conditional network manifest: fill_from {lo} and fill_up_to {hi} \
+                         must satisfy 1 <= fill_from <= fill_up_to"
+                    )));
+                }
+                Ok(Some((lo, hi)))
+            }
+            (Some(_), None) => Err(Error::Invalid(
+                "conditional network manifest: fill_from without fill_up_to".into(),
+            )),
+        }
+    }
 }
 
 /// Gaps with context (issue 50; `cond.py`'s `context_spans`): consecutive
@@ -130,8 +156,9 @@ pub struct CondInfo {
     pub variation: f32,
     /// Whether the `model` method runs it for the partial keys it takes.
     pub default_for_partial_keys: bool,
-    /// A gap-filling network's longest gap under the `model` fill.
-    pub fill_up_to: Option<usize>,
+    /// A gap-filling network's shortest and longest gap under the `model`
+    /// fill (its manifest's `fill_from`, default 1, and `fill_up_to`).
+    pub fill_gaps: Option<(usize, usize)>,
 }
 
 /// What the request planner needs of a conditional network's manifest text
@@ -145,7 +172,7 @@ pub fn info_of_manifest(json: &str) -> Result<CondInfo> {
     Ok(CondInfo {
         variation,
         default_for_partial_keys: m.default_for_partial_keys,
-        fill_up_to: m.fill_up_to,
+        fill_gaps: m.fill_gaps()?,
     })
 }
 
@@ -193,7 +220,7 @@ mod model {
         pub default_for_partial_keys: bool,
         /// Whether its base over gaps with context is the Hermite curve.
         context_base: bool,
-        fill_up_to: Option<usize>,
+        fill_gaps: Option<(usize, usize)>,
     }
 
     /// Per frame of a group of keys: (s, frames since the previous key / P,
@@ -281,6 +308,7 @@ mod model {
             }
             let default_variation = m.variation.unwrap_or(1.0);
             crate::motion::check_variation(default_variation).map_err(|e| bad(e.to_string()))?;
+            let fill_gaps = m.fill_gaps()?;
             let context_base = match m.context_base.as_deref() {
                 None | Some("slerp") => false,
                 Some("hermite") => true,
@@ -315,7 +343,7 @@ mod model {
                 default_variation,
                 default_for_partial_keys: m.default_for_partial_keys,
                 context_base,
-                fill_up_to: m.fill_up_to,
+                fill_gaps,
             })
         }
 
@@ -344,7 +372,7 @@ mod model {
             CondInfo {
                 variation: self.default_variation,
                 default_for_partial_keys: self.default_for_partial_keys,
-                fill_up_to: self.fill_up_to,
+                fill_gaps: self.fill_gaps,
             }
         }
 

@@ -87,13 +87,13 @@ pub const DEFAULT_CONTEXT: Context = Context {
 pub const HERMITE_MAX_GAP: usize = 45;
 
 /// What fills a gap of `len` frames when `method` is asked: "model" is the
-/// gap-filling network where one is loaded (`fill_up_to`: the longest gap
-/// its manifest gives it) and the gap is that short, else "hermite" up to
-/// [`HERMITE_MAX_GAP`] frames and the networks' default beyond; every
-/// other method is itself.
-pub fn method_for(method: &str, len: usize, fill_up_to: Option<usize>) -> &str {
+/// gap-filling network where one is loaded and the gap's length is in the
+/// range its manifest gives it (`fill_gaps`: `fill_from..=fill_up_to`),
+/// else "hermite" up to [`HERMITE_MAX_GAP`] frames and the networks'
+/// default beyond; every other method is itself.
+pub fn method_for(method: &str, len: usize, fill_gaps: Option<(usize, usize)>) -> &str {
     match method {
-        "model" if fill_up_to.is_some_and(|m| len <= m) => "fill",
+        "model" if fill_gaps.is_some_and(|(lo, hi)| (lo..=hi).contains(&len)) => "fill",
         "model" if len <= HERMITE_MAX_GAP => "hermite",
         _ => method,
     }
@@ -426,13 +426,16 @@ mod tests {
         assert_eq!(method_for("model", 10, None), "hermite");
         assert_eq!(method_for("model", HERMITE_MAX_GAP + 1, None), "model");
         // a gap-filling network takes the gaps its manifest claims
-        assert_eq!(method_for("model", 10, Some(45)), "fill");
-        assert_eq!(method_for("model", 45, Some(45)), "fill");
-        assert_eq!(method_for("model", 46, Some(45)), "model");
-        assert_eq!(method_for("model", 120, Some(180)), "fill");
+        assert_eq!(method_for("model", 10, Some((1, 45))), "fill");
+        assert_eq!(method_for("model", 45, Some((1, 45))), "fill");
+        assert_eq!(method_for("model", 46, Some((1, 45))), "model");
+        assert_eq!(method_for("model", 120, Some((1, 180))), "fill");
+        // below its range: the curve, as without it
+        assert_eq!(method_for("model", 20, Some((21, 45))), "hermite");
+        assert_eq!(method_for("model", 21, Some((21, 45))), "fill");
         // a named method is itself
-        assert_eq!(method_for("hermite", 500, Some(45)), "hermite");
-        assert_eq!(method_for("residual", 10, Some(45)), "residual");
+        assert_eq!(method_for("hermite", 500, Some((1, 45))), "hermite");
+        assert_eq!(method_for("residual", 10, Some((1, 45))), "residual");
     }
 
     #[test]

@@ -368,7 +368,7 @@ mod tests {
             cond: Some(CondInfo {
                 variation: 0.9,
                 default_for_partial_keys,
-                fill_up_to: None,
+                fill_gaps: None,
             }),
             ..LOADED
         };
@@ -425,7 +425,7 @@ mod tests {
             fill: Some(CondInfo {
                 variation: 1.0,
                 default_for_partial_keys: false,
-                fill_up_to: Some(45),
+                fill_gaps: Some((1, 45)),
             }),
             ..LOADED
         };

@@ -247,6 +247,8 @@ fn bad_conditional_manifests_are_errors() {
             with("rotating", serde_json::json!([1, 0])),
             "'rotating' must list",
         ),
+        (with("fill_from", 21.into()), "fill_from without fill_up_to"),
+        (with("fill_up_to", 0.into()), "1 <= fill_from <= fill_up_to"),
     ] {
         let e = CondModel::new(&[], &manifest)
             .err()
@@ -254,6 +256,18 @@ fn bad_conditional_manifests_are_errors() {
             .to_string();
         assert!(e.contains(want), "{want}: {e}");
     }
+    // the planner's reading of the manifest checks the fill range too
+    let mut m = good.clone();
+    m["fill_from"] = 46.into();
+    m["fill_up_to"] = 45.into();
+    let e = deeprep::motion::cond::info_of_manifest(&m.to_string()).unwrap_err();
+    assert!(
+        e.to_string().contains("fill_from 46 and fill_up_to 45"),
+        "{e}"
+    );
+    m["fill_from"] = 21.into();
+    let info = deeprep::motion::cond::info_of_manifest(&m.to_string()).unwrap();
+    assert_eq!(info.fill_gaps, Some((21, 45)));
 }
 
 /// A gap over HIER_GAP frames runs hierarchically: the keys stay exact and

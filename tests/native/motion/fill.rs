@@ -154,9 +154,10 @@ fn the_cli_fills_gaps_and_keeps_every_other_byte() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-/// A gap-filling network (`tween_fill.onnx` with `fill_up_to` in its
-/// manifest) takes the `model` fill's gaps up to that length, the longer
-/// ones stay with the default network, and `--method fill` names it. The
+/// A gap-filling network (`tween_fill.onnx` with `fill_from` and
+/// `fill_up_to` in its manifest) takes the `model` fill's gaps of those
+/// lengths, the shorter ones stay with the Hermite curve and the longer ones
+/// with the default network, and `--method fill` names it. The
 /// stand-in here is the conditional network itself under the fill's name,
 /// so on the short gap the `model` fill must write what `--method cond`
 /// writes, line for line.
@@ -181,6 +182,7 @@ fn a_gap_filling_network_takes_the_gaps_its_manifest_claims() {
     )
     .unwrap();
     manifest["name"] = "tween_fill".into();
+    manifest["fill_from"] = 5.into();
     manifest["fill_up_to"] = 45.into();
     std::fs::write(lib.join("tween_fill.manifest.json"), manifest.to_string()).unwrap();
     let input = dir.join("in.bvh");
@@ -190,7 +192,10 @@ fn a_gap_filling_network_takes_the_gaps_its_manifest_claims() {
         let out = dir.join(format!("{method}.bvh"));
         let o = std::process::Command::new(env!("CARGO_BIN_EXE_deeprep"))
             .args(["inbetween", "--from-bvh", input.to_str().unwrap()])
-            .args(["--fill", "100-159", "--fill", "200-209", "--method", method])
+            .args([
+                "--fill", "100-159", "--fill", "200-209", "--fill", "250-253",
+            ])
+            .args(["--method", method])
             .args([
                 "-o",
                 out.to_str().unwrap(),
@@ -205,7 +210,9 @@ fn a_gap_filling_network_takes_the_gaps_its_manifest_claims() {
     };
     let (model, info) = fill_with("model");
     assert!(
-        info.contains("200-209: pipeline fill") && info.contains("100-159: pipeline residual"),
+        info.contains("200-209: pipeline fill")
+            && info.contains("100-159: pipeline residual")
+            && info.contains("250-253: a cubic Hermite curve"),
         "{info}"
     );
     let (cond, _) = fill_with("cond");

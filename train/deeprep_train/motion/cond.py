@@ -728,8 +728,8 @@ def export(args):
     """models/onnx/NAME.onnx (--name, default tween_cond; the moving average
     of --ckpt), its manifest and the network's parity fixture, and for
     tween_cond the motion fixture. A gap-filling network (--name tween_fill)
-    carries --fill-up-to in its manifest: the longest gap the `model` fill
-    gives it (motion::fill::method_for)."""
+    carries --fill-from and --fill-up-to in its manifest: the shortest and
+    longest gap the `model` fill gives it (motion::fill::method_for)."""
     import onnxruntime as ort
     from deeprep_train.motion.export import fixture
     from deeprep_train.export.util import ONNX_DIR, git_commit, write_json
@@ -760,13 +760,17 @@ def export(args):
     sess = ort.InferenceSession(path, providers=["CPUExecutionProvider"])
     parity = fixture(name, sess, {"x": x.numpy()}, ref)
     prior_m = quat_to_mat(prior)
+    if args.fill_from and not 1 <= args.fill_from <= args.fill_up_to:
+        raise SystemExit("--fill-from needs --fill-up-to and 1 <= FROM <= UP_TO")
     fill = {"fill_up_to": args.fill_up_to} if args.fill_up_to else {}
+    if args.fill_from:
+        fill["fill_from"] = args.fill_from
     write_json(os.path.join(ONNX_DIR, f"{name}.manifest.json"), {
         "name": name,
         "kind": "cond-tween",
         "description": ("the conditional network fine-tuned on gaps in captured motion, whole-pose keys around "
                         f"gaps (train/deeprep_train/motion/cond.py; issue 50): the `model` fill's network for gaps "
-                        f"up to {args.fill_up_to} frames" if fill else
+                        f"of {args.fill_from or 1}-{args.fill_up_to} frames" if fill else
                         "one conditional in-betweening network for whole-pose, root-only and 2-D keys "
                         "(train/deeprep_train/motion/cond.py; issue 47)"),
         "inputs": [{"name": "x", "shape": [1, cin, "frames"],
@@ -878,6 +882,8 @@ def main():
                     help="export: the file name under models/onnx (tween_fill: the gap-filling network)")
     ap.add_argument("--fill-up-to", type=int, default=0,
                     help="export: the longest gap the `model` fill gives this network (its manifest's fill_up_to)")
+    ap.add_argument("--fill-from", type=int, default=0,
+                    help="export: the shortest gap the `model` fill gives this network (fill_from; default 1)")
     ap.add_argument("--fill-gaps", type=lambda v: tuple(int(x) for x in v.split(",")), default=(10, 180),
                     help="LO,HI: the gap lengths of --fill-share's windows (their law: --fill-law)")
     ap.add_argument("--short-every", type=int, default=0,

@@ -16,6 +16,8 @@ end tangents are the context's velocities), residual (the network with
 every context frame a key), residual-2 (the network with only the last
 context frame and the target as keys), model (the CLI's default for fills:
 Hermite up to 45 frames, the network beyond; motion::fill::method_for).
+mix:A:B:S (an experiment, not a CLI method): the outputs of methods A and B
+(both listed too) mixed joint by joint, weight S on B.
 
 Run: train/.venv/bin/python -m deeprep_train.motion.fill_eval [--split train|val]
 Writes docs/fill_eval[_train].json and prints Markdown tables.
@@ -29,7 +31,7 @@ import tempfile
 
 import numpy as np
 
-from deeprep_train.bvh import global_fk, read_bvh, resample
+from deeprep_train.bvh import fk_from_local, global_fk, local_fk, mat_to_quat, read_bvh, resample
 from deeprep_train.motion.data import DATA, TRUE_FPS, VALIDATION, take_of
 from deeprep_train.motion.eval import FEET, cli, l2p_stats, npss, score
 from deeprep_train.paths import ROOT
@@ -54,6 +56,26 @@ METHODS = {
 }
 
 
+def quat_to_mat(q):
+    w, x, y, z = np.moveaxis(q, -1, 0)
+    return np.stack([
+        np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
+        np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
+        np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1)], -2)
+
+
+def mix(bvh_a, bvh_b, s):
+    """Global (positions, rotations) of two fills' outputs mixed joint by joint:
+    local rotations normalized-lerped and translations lerped, weight s on b."""
+    ta, ra = local_fk(bvh_a)
+    tb, rb = local_fk(bvh_b)
+    qa, qb = mat_to_quat(ra), mat_to_quat(rb)
+    qb = qb * np.where((qa * qb).sum(-1, keepdims=True) < 0, -1.0, 1.0)
+    q = (1 - s) * qa + s * qb
+    q /= np.linalg.norm(q, axis=-1, keepdims=True)
+    return fk_from_local(bvh_a, (1 - s) * ta + s * tb, quat_to_mat(q))
+
+
 def windows(n, length, after):
     """Gap starts: every STRIDE frames with CONTEXT frames before and `after` after."""
     return list(range(CONTEXT, n - length - after + 1, STRIDE))
@@ -68,6 +90,12 @@ def main():
     ap.add_argument("--every", type=int, default=1, help="every K-th clip of the split (a quicker look)")
     ap.add_argument("--json")
     args = ap.parse_args()
+    for m in args.methods:
+        parts = m.split(":")
+        if m.startswith("mix:") and (len(parts) != 4 or not set(parts[1:3]) <= set(args.methods)):
+            sys.exit(f"{m}: expected mix:A:B:S with methods A and B listed too")
+        if not m.startswith("mix:") and m not in METHODS:
+            sys.exit(f"{m}: unknown method ({', '.join(METHODS)}, mix:A:B:S)")
     if not os.path.isdir(DATA):
         sys.exit(f"SKIP: {DATA} is absent")
     mu, sd = l2p_stats()
@@ -88,10 +116,18 @@ def main():
                 for L in args.lengths:
                     starts = windows(n, L, after)
                     phases = -(-(CONTEXT + L + after) // STRIDE)
-                    for m in args.methods:
+                    outs = {}
+                    for m in sorted(args.methods, key=lambda m: m.startswith("mix:")):
                         for p in range(phases):
                             mine = starts[p::phases]
                             if not mine:
+                                continue
+                            if m.startswith("mix:"):
+                                # mix:A:B:S, the outputs of methods A and B mixed with weight S on B
+                                _, a_, b_, w = m.split(":")
+                                pred = mix(outs[(a_, p)], outs[(b_, p)], float(w))
+                                for s in mine:
+                                    score(acc[(m, after, L)], pred, (gpos, grot), [s - 1, s + L], feet, floor, mu, sd)
                                 continue
                             out = os.path.join(tmp, "out.bvh")
                             # a method's own --context comes last and wins
@@ -102,7 +138,8 @@ def main():
                                                + fills + extra, capture_output=True, text=True, cwd=ROOT)
                             if r.returncode != 0:
                                 sys.exit(f"{m} on {clip}: {r.stderr}")
-                            pred = global_fk(read_bvh(out))
+                            outs[(m, p)] = read_bvh(out)
+                            pred = global_fk(outs[(m, p)])
                             for s in mine:
                                 score(acc[(m, after, L)], pred, (gpos, grot), [s - 1, s + L], feet, floor, mu, sd)
             print(f"{cls}/{name}: {n} frames", file=sys.stderr)

@@ -338,9 +338,9 @@ fn fill(
         None => fill::DEFAULT_CONTEXT,
     };
     let mut info: Vec<String> = Vec::new();
-    let fill_up_to = loaded(o)?.fill.and_then(|f| f.fill_up_to);
+    let fill_gaps = loaded(o)?.fill.and_then(|f| f.fill_gaps);
     let filled = fill::fill(b, &gaps, ctx, &mut |clip, ck, gap| {
-        let method = fill::method_for(&o.method, gap.len(), fill_up_to);
+        let method = fill::method_for(&o.method, gap.len(), fill_gaps);
         if method == "hermite" {
             info.push(format!(
                 "{}-{}: a cubic Hermite curve with the context's tangents",

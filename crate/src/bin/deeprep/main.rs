@@ -51,7 +51,7 @@ const USAGE: &str = "usage:
       gaps in captured motion filled: frames S to E (inclusive) of CLIP synthesized from the
       known frames around them (B before, A after; default 20,1), every other line of CLIP
       written unchanged; the default fills the gaps a gap-filling network claims (--method
-      fill: models/onnx/tween_fill.onnx where present, its manifest's fill_up_to) with it,
+      fill: models/onnx/tween_fill.onnx where present, the lengths its manifest's fill_from..fill_up_to give) with it,
       other gaps up to 45 frames with a cubic Hermite curve whose tangents are the context's
       velocities (--method hermite) and longer ones with the network; a gap reversed,
       outside the clip, touching its first or last frame, or overlapping another is an error

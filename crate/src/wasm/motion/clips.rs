@@ -115,9 +115,9 @@ impl Inbetweener {
         let b = on_model.as_ref().map_or(&user, |m| &m.clip);
         let mut plan = None;
         let mut stage_ms = [0.0; 4];
-        let fill_up_to = self.fill.as_ref().and_then(|f| f.info().fill_up_to);
+        let fill_gaps = self.fill.as_ref().and_then(|f| f.info().fill_gaps);
         let filled = fill::fill(b, &gaps, ctx, &mut |c, ck, gap| {
-            let method = fill::method_for(method, gap.len(), fill_up_to);
+            let method = fill::method_for(method, gap.len(), fill_gaps);
             if method == "hermite" {
                 return fill::hermite(c, ck);
             }

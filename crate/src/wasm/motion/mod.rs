@@ -373,7 +373,7 @@ impl Inbetweener {
 
     /// Adds the gap-filling network (the bytes of `tween_fill.onnx` and its
     /// manifest's text): `fillGaps` runs it for method `fill`, and for
-    /// method `model` on the gaps its manifest gives it (`fill_up_to`).
+    /// method `model` on the gaps its manifest gives it (`fill_from`..=`fill_up_to`).
     #[wasm_bindgen(js_name = setFill)]
     pub fn set_fill(&mut self, onnx: &[u8], manifest: &str) -> Result<(), JsError> {
         self.fill = Some(self.cond_model(onnx, manifest)?);
