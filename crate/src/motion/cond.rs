@@ -180,9 +180,9 @@ pub fn info_of_manifest(json: &str) -> Result<CondInfo> {
 /// it was trained on (`residual.sample_keys`' 300 frames).
 pub const HIER_GAP: usize = 300;
 /// The longest gap of a hierarchical synthesis' coarse pass.
-pub const COARSE_GAP: usize = 200;
+pub const COARSE_GAP: usize = 300;
 /// The longest spacing of the critical keys a coarse pass gives.
-pub const CRITICAL_SPACING: usize = 240;
+pub const CRITICAL_SPACING: usize = 300;
 
 /// The network itself (with the runtime).
 #[cfg(feature = "onnx")]
