@@ -98,6 +98,11 @@ struct Manifest {
     /// ... and the shortest (default 1).
     #[serde(default)]
     fill_from: Option<usize>,
+    /// Whether it was trained on the hierarchy's coarse rates too (its phase
+    /// distances in 60 fps frames when a pass' frames are further apart;
+    /// `cond.py --coarse-every`), so the coarse pass tells it the rate.
+    #[serde(default)]
+    coarse_rates: bool,
 }
 
 impl Manifest {
@@ -221,6 +226,7 @@ mod model {
         /// Whether its base over gaps with context is the Hermite curve.
         context_base: bool,
         fill_gaps: Option<(usize, usize)>,
+        coarse_rates: bool,
     }
 
     /// Per frame of a group of keys: (s, frames since the previous key / P,
@@ -344,6 +350,7 @@ mod model {
                 default_for_partial_keys: m.default_for_partial_keys,
                 context_base,
                 fill_gaps,
+                coarse_rates: m.coarse_rates,
             })
         }
 
@@ -460,7 +467,7 @@ mod model {
                 .max()
                 .unwrap_or(0);
             if longest <= HIER_GAP {
-                return self.synthesize_flat(keys, frames, variation, seed);
+                return self.synthesize_flat(keys, frames, variation, seed, 1);
             }
             let f = longest.div_ceil(COARSE_GAP);
             let coarse_frames = (frames - 1) / f + 1;
@@ -475,7 +482,9 @@ mod model {
                     });
                 }
             }
-            let rough = self.synthesize_flat(&coarse, coarse_frames, variation, seed)?;
+            // a network trained at the coarse rates is told this pass' rate
+            let rate = if self.coarse_rates { f } else { 1 };
+            let rough = self.synthesize_flat(&coarse, coarse_frames, variation, seed, rate)?;
             let mut all: Vec<Keyframe> = keys.to_vec();
             for w in keys.windows(2) {
                 let (a, b) = (w[0].frame, w[1].frame);
@@ -504,7 +513,28 @@ mod model {
                 }
             }
             all.sort_by_key(|k| k.frame);
-            self.synthesize_flat(&all, frames, variation, seed)
+            self.synthesize_flat(&all, frames, variation, seed, 1)
+        }
+
+        /// One pass of the network over `frames` frames that are each `rate`
+        /// frames of the 60 fps motion apart (the hierarchy's coarse pass):
+        /// the keys' phase distances are given in 60 fps frames (`cond.py`'s
+        /// `group_phase` rate). [`Self::synthesize`] runs it at rate 1, and at
+        /// the coarse pass' rate when the manifest says `coarse_rates`.
+        pub fn synthesize_at_rate(
+            &self,
+            keys: &[Keyframe],
+            frames: usize,
+            variation: f32,
+            seed: Option<u64>,
+            rate: usize,
+        ) -> Result<Motion> {
+            crate::motion::check_variation(variation)?;
+            crate::motion::validate_keys(keys, frames, self.template.joints.len())?;
+            if !(1..=64).contains(&rate) {
+                return Err(Error::Invalid(format!("rate {rate}: expected 1 to 64")));
+            }
+            self.synthesize_flat(keys, frames, variation, seed, rate)
         }
 
         /// One pass of the network over the whole request.
@@ -514,6 +544,7 @@ mod model {
             frames: usize,
             variation: f32,
             seed: Option<u64>,
+            rate: usize,
         ) -> Result<Motion> {
             let joints = self.template.joints.len();
             let classes: Vec<KeyClass> = keys
@@ -564,7 +595,7 @@ mod model {
                 )
             };
             let frames_of = |ix: &[usize]| ix.iter().map(|&i| keys[i].frame).collect::<Vec<_>>();
-            let (gf, pf) = (self.gate_frames, self.phase_frames);
+            let (gf, pf) = (self.gate_frames, self.phase_frames / rate as f64);
             let ph_all = group_phase(&frames_of(&all), n, gf, pf);
             let ph_p = group_phase(&frames_of(&pk), n, gf, pf);
             let ph_x = group_phase(&frames_of(&xk), n, gf, pf);

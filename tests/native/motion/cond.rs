@@ -64,7 +64,8 @@ fn tract_matches_onnxruntime_on_the_conditional_network() {
 
 /// Every case of the fixture: the same motion as cond.py's features and
 /// apply with the same network, within float32 noise through a network
-/// (6D and root in units of the output's size).
+/// (6D and root in units of the output's size); the last case is a coarse
+/// pass (frames 3 apart, `synthesize_at_rate`: the phase in 60 fps frames).
 #[test]
 fn the_conditional_network_reproduces_the_training_code() {
     let Some(m) = model() else { return };
@@ -81,7 +82,11 @@ fn the_conditional_network_reproduces_the_training_code() {
             .iter()
             .map(|k| key(&m, k))
             .collect();
-        let out = m.synthesize(&keys, frames, 1.0, None).unwrap();
+        // a case with a rate is the hierarchy's coarse pass
+        let rate = case["rate"].as_u64().unwrap_or(1) as usize;
+        let out = m
+            .synthesize_at_rate(&keys, frames, 1.0, None, rate)
+            .unwrap();
         let (mut d_root, mut d_rot) = (0.0f64, 0.0f64);
         for t in 0..frames {
             let want = floats(&case["root"][t]);
@@ -293,6 +298,56 @@ fn a_long_gap_keeps_moving() {
         turned > 1.0,
         "the knee turns {turned} rad over frames 400-600"
     );
+}
+
+/// With `coarse_rates` in the manifest the hierarchy's coarse pass tells the
+/// network its rate: a 1,000-frame gap comes out differently (the critical
+/// poses come from another coarse motion) with the keys as exact, and a gap
+/// short enough for one pass is unchanged.
+#[test]
+fn coarse_rates_in_the_manifest_reach_the_coarse_pass_only() {
+    let Some(plain) = model() else { return };
+    let dir = root().join("models/onnx");
+    let mut manifest: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("tween_cond.manifest.json")).unwrap(),
+    )
+    .unwrap();
+    manifest["coarse_rates"] = true.into();
+    let coarse = CondModel::new(
+        &std::fs::read(dir.join("tween_cond.onnx")).unwrap(),
+        &manifest.to_string(),
+    )
+    .unwrap();
+    let joints = plain.template.joints.len();
+    let keys = |last: usize| -> Vec<Keyframe> {
+        [0usize, last]
+            .iter()
+            .map(|&f| Keyframe::root_only(f, [0.0, 90.0, f as f32], joints))
+            .collect()
+    };
+    let (a, b) = (
+        plain.synthesize(&keys(1000), 1001, 1.0, None).unwrap(),
+        coarse.synthesize(&keys(1000), 1001, 1.0, None).unwrap(),
+    );
+    let apart = (300..700)
+        .map(|t| {
+            (0..3)
+                .map(|i| (a.root[t][i] - b.root[t][i]).abs())
+                .sum::<f64>()
+        })
+        .fold(0.0, f64::max);
+    assert!(apart > 1e-3, "the coarse rate changed nothing ({apart})");
+    for k in keys(1000) {
+        for (o, p) in b.root[k.frame].iter().zip(&k.positions) {
+            assert!((o - *p as f64).abs() < 1e-3, "root at {}", k.frame);
+        }
+    }
+    let (a, b) = (
+        plain.synthesize(&keys(200), 201, 1.0, None).unwrap(),
+        coarse.synthesize(&keys(200), 201, 1.0, None).unwrap(),
+    );
+    assert_eq!(a.root, b.root);
+    assert_eq!(a.rotations, b.rotations);
 }
 
 /// With `context_base: hermite` in the manifest (issue 50), a gap between

@@ -87,9 +87,13 @@ def extra_channels(J):
 
 # ---------------------------------------------------------------- keys and features
 
-def group_phase(group, n):
+def group_phase(group, n, rate=1):
     """Phase [n, 4] (s, frames since the previous key / 60, to the next /
     60, gate) of the frames of an n-frame window towards the keys `group`
+    (`rate`: the window's frames are `rate` frames of the 60 fps motion apart,
+    the hierarchy's coarse pass; the distances are then in 60 fps frames,
+    so the phase's slope tells the network the frame rate; the gate stays
+    in the window's frames)
     (sorted frame indices), and the previous / next key per frame (a, b).
     Between the first and last key exactly `residual.key_phase`'s; before the
     first key a = b = the first (s = 0), after the last a = b = the last
@@ -110,7 +114,7 @@ def group_phase(group, n):
         s = torch.where(before, 0.0, torch.where(after, 1.0, s))
     dp, dn = (t - a).abs().float(), (b - t).abs().float()
     gate = 1 - torch.exp(-torch.minimum(dp, dn) / GATE_FRAMES)
-    return torch.stack([s, dp / PHASE_FRAMES, dn / PHASE_FRAMES, gate], -1), a, b
+    return torch.stack([s, dp * rate / PHASE_FRAMES, dn * rate / PHASE_FRAMES, gate], -1), a, b
 
 
 def turn(root, quat, phi):
@@ -199,12 +203,13 @@ def hermite_base(spans, root, quat, base_root, base_q):
         base_q[a + 1:b] = r / r.norm(dim=-1, keepdim=True)
 
 
-def features(skel, prior, root, quat, keys, kinds, noise, offsets, context_base=False):
+def features(skel, prior, root, quat, keys, kinds, noise, offsets, context_base=False, rate=1):
     """The network's input pieces for one window. root [N,3], quat [N,K,4]
     (the truth; only key frames are read for the input), keys (sorted frame
     indices), kinds (P/R/X per key), noise [Z], offsets [J,3]. Returns
     (x [C,N], gate_root [N], gate_rot [N], base_root [N,3], base_rot
-    [N,K,3,3], gt_root [N,3], gt_rot [N,K,3,3]), all in the canonical frame."""
+    [N,K,3,3], gt_root [N,3], gt_rot [N,K,3,3]), all in the canonical frame.
+    rate: the window's frames are that many 60 fps frames apart (group_phase)."""
     n = root.shape[0]
     pk = [k for k, c in zip(keys, kinds) if c == P]
     xk = [k for k, c in zip(keys, kinds) if c in (P, X)]
@@ -212,9 +217,9 @@ def features(skel, prior, root, quat, keys, kinds, noise, offsets, context_base=
     gt_root = (root - off) @ C.T
     gt_rot = quat_to_mat(quat)
     gt_rot = torch.cat([(C @ gt_rot[:, 0]).unsqueeze(1), gt_rot[:, 1:]], 1)
-    ph_all, a, b = group_phase(keys, n)
+    ph_all, a, b = group_phase(keys, n, rate)
     base_root = gt_root[a] + ph_all[:, :1] * (gt_root[b] - gt_root[a])
-    ph_p, a, b = group_phase(pk, n)
+    ph_p, a, b = group_phase(pk, n, rate)
     if pk:
         base_q = slerp(quat[a], quat[b], ph_p[:, :1].expand(-1, quat.shape[1]))
         if context_base:
@@ -225,7 +230,7 @@ def features(skel, prior, root, quat, keys, kinds, noise, offsets, context_base=
     else:
         base_rot = quat_to_mat(prior).expand(n, -1, -1, -1)
         gate_rot = torch.ones(n)
-    ph_x, a, b = group_phase(xk, n)
+    ph_x, a, b = group_phase(xk, n, rate)
     if xk:
         pos = fk(skel, gt_root[None, xk], gt_rot[None, xk], offsets[None])[0]
         xy = (pos - pos[:, :1])[..., :2].reshape(len(xk), -1) / SCALE   # [len(xk), 2J]
@@ -298,10 +303,12 @@ class CondTween(nn.Module):
     """[B, 3 + 6K + 4 + extra, N] -> residual [B, 3 + 6K, N]: the whole-pose
     network's blocks with a wider input convolution (and skip)."""
 
-    def __init__(self, K, J, width, dilations, stride=1, skip=False, context_base=False):
+    def __init__(self, K, J, width, dilations, stride=1, skip=False, context_base=False, coarse_rates=False):
         super().__init__()
         self.core = ResidualTween(K, width, dilations, stride, skip)
         self.K, self.J = K, J
+        # trained on the hierarchy's coarse rates too (group_phase's rate; issue 47 item 3)
+        self.coarse_rates = bool(coarse_rates)
         # the base over gaps with context frames: motion::fill's Hermite curve (issue 50)
         self.context_base = bool(context_base)
         cin = 3 + 6 * K + 4 + extra_channels(J)
@@ -320,7 +327,8 @@ class CondTween(nn.Module):
         return self.core(x)
 
     def arch(self):
-        return {**self.core.arch(), "J": self.J, "Z": Z, "context_base": int(self.context_base)}
+        return {**self.core.arch(), "J": self.J, "Z": Z, "context_base": int(self.context_base),
+                "coarse_rates": int(self.coarse_rates)}
 
 
 def widen(state, cin):
@@ -341,7 +349,7 @@ def widen(state, cin):
 def build(s):
     a = arch(s)
     return CondTween(a["K"], int(s["J"]), a["width"], a["dilations"], a["stride"], a["skip"],
-                     bool(s.get("context_base", 0)))
+                     bool(s.get("context_base", 0)), bool(s.get("coarse_rates", 0)))
 
 
 def load_ema(path, device="cpu"):
@@ -383,19 +391,22 @@ def spread(d, skel):
 
 
 def make_batch(clips, skel, prior, b, n, rng, do_mirror, device, fill_share=0.0, context_base=False,
-               extra_share=0.0, fill_gaps=(10, 180), fill_law="log"):
+               extra_share=0.0, fill_gaps=(10, 180), fill_law="log", rate=1):
     """b windows of n frames; `extra_share` of them from cmu-extra's locomotion clips
-    (segments named extra/...) where one is at least n frames long."""
+    (segments named extra/...) where one is at least n frames long. rate > 1:
+    every window is n frames taken `rate` apart from n * rate frames (what
+    the hierarchy's coarse pass sees), keys as users give them, no fill layouts."""
     xs, gr_, gq_, br, bq, tr, tq, offs = [], [], [], [], [], [], [], []
     extra = np.array([str(name).startswith("extra/") for name in clips.names])
     for _ in range(b):
-        root, quat = clips.window(n, rng, extra if rng.random() < extra_share else None)
+        root, quat = clips.window(n * rate, rng, extra if rng.random() < extra_share else None)
+        root, quat = root[::rate], quat[::rate]
         off = skel.offsets
         if do_mirror and rng.random() < 0.5:
             root, quat = mirror(root, quat, skel)
             off = skel.mirror_offsets
         root, quat = turn(root, quat, rng.uniform(-math.pi, math.pi))
-        if rng.random() < fill_share:
+        if rate == 1 and rng.random() < fill_share:
             keys = fill_keys(n, rng, fill_gaps, fill_law)
             kinds = [P] * len(keys)
         else:
@@ -403,7 +414,7 @@ def make_batch(clips, skel, prior, b, n, rng, do_mirror, device, fill_share=0.0,
             keys = sample_keys(n, rng, lo=30 if rng.random() < 0.5 else 15)
             kinds = sample_kinds(keys, rng)
         noise = torch.from_numpy(rng.standard_normal(Z)).float()
-        f = features(skel, prior, root, quat, keys, kinds, noise, off, context_base)
+        f = features(skel, prior, root, quat, keys, kinds, noise, off, context_base, rate)
         for lst, v in zip((xs, gr_, gq_, br, bq, tr, tq), f):
             lst.append(v)
         offs.append(off)
@@ -492,6 +503,10 @@ def train(args):
             print(f"the base over gaps with context: {'Hermite' if args.context_base else 'SLERP+LERP'} from now on",
                   flush=True)
         net.context_base = ema.context_base = bool(args.context_base)
+    if args.coarse_every > 0 and not net.coarse_rates:
+        print(f"coarse-rate windows from now on (rates {args.coarse_rates}): the manifest will say coarse_rates",
+              flush=True)
+        net.coarse_rates = ema.coarse_rates = True
     net.to(dev)
     ema.to(dev)
     opt = torch.optim.Adam(net.parameters(), lr=args.lr)
@@ -524,10 +539,14 @@ def train(args):
         # every short_every-th batch: shorter windows (cmu-extra's walks and runs are 67-299
         # frames long, never a whole 480-frame window), as many frames in all
         short = args.short_every > 0 and step % args.short_every == 0
-        n = args.short_frames if short else args.frames
+        # every coarse_every-th batch (after the short ones): the hierarchy's coarse pass,
+        # windows of coarse_frames frames each `rate` frames of the motion apart
+        coarse = not short and args.coarse_every > 0 and step % args.coarse_every == 1 % args.coarse_every
+        rate = int(rng.choice(args.coarse_rates)) if coarse else 1
+        n = args.short_frames if short else args.coarse_frames if coarse else args.frames
         batch = make_batch(clips, skel, prior, max(1, args.batch * args.frames // n), n, rng, args.mirror, dev,
                            args.fill_share, net.context_base, args.extra_share if short else 0.0,
-                           args.fill_gaps, args.fill_law)
+                           args.fill_gaps, args.fill_law, rate)
         out = losses(net, skel, batch, w, adv, args.div_tau)
         opt.zero_grad()
         out["total"].backward()
@@ -648,7 +667,7 @@ def portable(args):
     to = args.to or PORTABLE
     os.makedirs(os.path.dirname(os.path.abspath(to)), exist_ok=True)
     torch.save({**half, "step": s["step"], "prior": s["prior"], **arch(s), "J": s["J"], "Z": s["Z"],
-                "context_base": int(s.get("context_base", 0))}, to)
+                "context_base": int(s.get("context_base", 0)), "coarse_rates": int(s.get("coarse_rates", 0))}, to)
     print(f"wrote {to} (step {s['step']}, {os.path.getsize(to) / 1e6:.1f} MB)")
 
 
@@ -665,7 +684,8 @@ def recover(args):
     man = json.load(open(os.path.join(ONNX_DIR, "tween_cond.manifest.json")))
     t = man["training"]
     s = {"width": t["width"], "K": t["K"], "dilations": t["dilations"], "stride": t["stride"], "skip": t["skip"],
-         "J": t["J"], "Z": t["Z"], "context_base": int(man.get("context_base") == "hermite")}
+         "J": t["J"], "Z": t["Z"], "context_base": int(man.get("context_base") == "hermite"),
+         "coarse_rates": int(bool(man.get("coarse_rates", False)))}
     net = build(s)
     arrays = initializer_arrays(onnx.load(os.path.join(ONNX_DIR, "tween_cond.onnx")))
     state = {k: torch.from_numpy(np.array(arrays[k], dtype=np.float32)) for k in net.state_dict()}
@@ -704,6 +724,9 @@ FIXTURE_CASES = [
     # a gap with context (issue 50): three whole poses before it, one after;
     # motion::fill's Hermite base where the manifest's context_base says so
     (41, [0, 1, 2, 30, 31, 40], [P, P, P, P, R, P]),
+    # the hierarchy's coarse pass: 41 frames, each 3 frames of the motion apart
+    # (the phase in 60 fps frames, group_phase's rate)
+    (41, [0, 20, 40], [R, P, X], 3),
 ]
 
 
@@ -746,11 +769,11 @@ def export(args):
     path = os.path.join(ONNX_DIR, f"{name}.onnx")
     noise = torch.zeros(Z)
 
-    def window(case_index, n):
+    def window(case_index, n, rate=1):
         a = 200 + 300 * case_index
-        return clips.root[a:a + n], clips.quat[a:a + n]
+        return clips.root[a:a + n * rate:rate], clips.quat[a:a + n * rate:rate]
 
-    n0, keys0, kinds0 = FIXTURE_CASES[2]
+    n0, keys0, kinds0 = FIXTURE_CASES[2][:3]
     f = features(skel, prior, *window(2, n0), keys0, kinds0, noise, skel.offsets, net.context_base)
     x = f[0].unsqueeze(0)
     torch.onnx.export(net, (x,), path, input_names=["x"], output_names=["residual"], opset_version=17,
@@ -796,6 +819,7 @@ def export(args):
         "exporter": {"torch": torch.__version__, "onnxruntime": ort.__version__, "opset": 17},
         "default_for_partial_keys": bool(args.default_for_partial_keys),
         "context_base": "hermite" if net.context_base else "slerp",
+        "coarse_rates": net.coarse_rates,
         "captured_joint_speed": captured_speed(skel, clips),
         **fill,
     })
@@ -806,9 +830,10 @@ def export(args):
     # the motion fixture, from the float16 file as shipped
     sess = ort.InferenceSession(path, providers=["CPUExecutionProvider"])
     cases = []
-    for ci, (n, keys, kinds) in enumerate(FIXTURE_CASES):
-        root, quat = window(ci, n)
-        f = features(skel, prior, root, quat, keys, kinds, noise, skel.offsets, net.context_base)
+    for ci, (n, keys, kinds, *rate) in enumerate(FIXTURE_CASES):
+        rate = rate[0] if rate else 1
+        root, quat = window(ci, n, rate)
+        f = features(skel, prior, root, quat, keys, kinds, noise, skel.offsets, net.context_base, rate)
         xin, g_root, g_rot, base_root, base_rot = [v.unsqueeze(0) for v in f[:5]]
         res = torch.from_numpy(sess.run(None, {"x": xin.numpy()})[0])
         # apply() with the exported network's output, then back to the world
@@ -827,7 +852,7 @@ def export(args):
                              "root": [float(v) for v in root[k]],
                              "positions": [float(v) for v in rel.reshape(-1)],
                              "rotations": [[float(v) for v in m.reshape(-1)] for m in quat_to_mat(quat[k])]})
-        cases.append({"frames": n, "keys": key_rows,
+        cases.append({"frames": n, "rate": rate, "keys": key_rows,
                       "root": [[round(float(v), 5) for v in r] for r in w_root],
                       "sixd": [[round(float(v), 6) for v in sixd(m).reshape(-1)] for m in rot]})
     os.makedirs(os.path.join(ONNX_DIR, "fixtures", "runtime"), exist_ok=True)
@@ -891,6 +916,12 @@ def main():
     ap.add_argument("--short-frames", type=int, default=150)
     ap.add_argument("--extra-share", type=float, default=0.0,
                     help="share of a short batch's windows from cmu-extra's locomotion clips")
+    ap.add_argument("--coarse-every", type=int, default=0,
+                    help="every K-th batch (0: never) of windows at the hierarchy's coarse rates (issue 47 item 3)")
+    ap.add_argument("--coarse-rates", type=lambda v: [int(x) for x in v.split(",")], default=[2, 3, 4, 5],
+                    help="the rates (60 fps frames per window frame) --coarse-every's windows are drawn at")
+    ap.add_argument("--coarse-frames", type=int, default=300,
+                    help="frames of a coarse window (the coarse pass' longest gap is 300)")
     ap.add_argument("--save-every", type=int, default=250)
     ap.add_argument("--snapshot-every", type=int, default=1000)
     ap.add_argument("--split", default="train")
