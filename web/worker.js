@@ -152,7 +152,11 @@ async function handleInit(msg) {
     } else {
       condManifest = await fetchText(urls.condManifest).catch(() => null);
       let isDefault = false;
-      try { isDefault = JSON.parse(condManifest)?.default_for_partial_keys === true; } catch { /* no manifest */ }
+      // the model for partial keys or for long whole-pose gaps (motion::plan): loaded now
+      try {
+        const m = JSON.parse(condManifest);
+        isDefault = m?.default_for_partial_keys === true || m?.default_for_long_gaps === true;
+      } catch { /* no manifest */ }
       if (isDefault) model.setCond(await fetchBytes(urls.cond), condManifest);
     }
     // One plan for any length now, so the first synthesis of each length

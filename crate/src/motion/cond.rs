@@ -61,11 +61,27 @@ pub fn classify(k: &Keyframe) -> Option<KeyClass> {
 /// DNA (it has no DNA input yet), no gap over [`MAX_GAP`](crate::motion::MAX_GAP)
 /// frames.
 pub fn cond_takes(keys: &[Keyframe], dna: bool) -> bool {
-    !dna && !keys.is_empty()
-        && keys.iter().all(|k| classify(k).is_some())
+    cond_reads(keys, dna)
         && keys
             .windows(2)
             .all(|w| w[1].frame.abs_diff(w[0].frame) <= crate::motion::MAX_GAP)
+}
+
+/// Whether `keys` are whole poses with rotations, without Motion DNA, with a
+/// gap over [`MAX_GAP`](crate::motion::MAX_GAP) frames: what the residual
+/// network cannot take and the conditional network's hierarchy can.
+pub fn long_gap_keys(keys: &[Keyframe], dna: bool) -> bool {
+    cond_reads(keys, dna)
+        && keys
+            .iter()
+            .all(|k| k.rotations.is_some() && k.is_whole_pose())
+        && keys
+            .windows(2)
+            .any(|w| w[1].frame.abs_diff(w[0].frame) > crate::motion::MAX_GAP)
+}
+
+fn cond_reads(keys: &[Keyframe], dna: bool) -> bool {
+    !dna && !keys.is_empty() && keys.iter().all(|k| classify(k).is_some())
 }
 
 // without the runtime only the planner's fields are read
@@ -87,6 +103,11 @@ struct Manifest {
     /// Whether `method: model` runs this network for root-only and 2-D keys.
     #[serde(default)]
     default_for_partial_keys: bool,
+    /// Whether `method: model` runs this network (its hierarchy) for
+    /// whole-pose keys with a gap over [`MAX_GAP`](crate::motion::MAX_GAP)
+    /// frames.
+    #[serde(default)]
+    default_for_long_gaps: bool,
     /// The base over gaps with a whole-pose context frame: "slerp" (the
     /// default) or "hermite" ([`crate::motion::fill::hermite_curve`]).
     #[serde(default)]
@@ -161,6 +182,9 @@ pub struct CondInfo {
     pub variation: f32,
     /// Whether the `model` method runs it for the partial keys it takes.
     pub default_for_partial_keys: bool,
+    /// Whether the `model` method runs it for whole-pose keys with a gap
+    /// over [`MAX_GAP`](crate::motion::MAX_GAP) frames ([`long_gap_keys`]).
+    pub default_for_long_gaps: bool,
     /// A gap-filling network's shortest and longest gap under the `model`
     /// fill (its manifest's `fill_from`, default 1, and `fill_up_to`).
     pub fill_gaps: Option<(usize, usize)>,
@@ -177,6 +201,7 @@ pub fn info_of_manifest(json: &str) -> Result<CondInfo> {
     Ok(CondInfo {
         variation,
         default_for_partial_keys: m.default_for_partial_keys,
+        default_for_long_gaps: m.default_for_long_gaps,
         fill_gaps: m.fill_gaps()?,
     })
 }
@@ -223,6 +248,7 @@ mod model {
         pub default_variation: f32,
         /// Whether `method: model` runs it for root-only and 2-D keys.
         pub default_for_partial_keys: bool,
+        default_for_long_gaps: bool,
         /// Whether its base over gaps with context is the Hermite curve.
         context_base: bool,
         fill_gaps: Option<(usize, usize)>,
@@ -348,6 +374,7 @@ mod model {
                 prior,
                 default_variation,
                 default_for_partial_keys: m.default_for_partial_keys,
+                default_for_long_gaps: m.default_for_long_gaps,
                 context_base,
                 fill_gaps,
                 coarse_rates: m.coarse_rates,
@@ -379,6 +406,7 @@ mod model {
             CondInfo {
                 variation: self.default_variation,
                 default_for_partial_keys: self.default_for_partial_keys,
+                default_for_long_gaps: self.default_for_long_gaps,
                 fill_gaps: self.fill_gaps,
             }
         }

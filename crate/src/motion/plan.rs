@@ -13,8 +13,11 @@
 //!   network when it is loaded, its manifest makes it the model for
 //!   partial keys, post-processing is on and it takes the keys
 //!   ([`cond_takes`]: whole poses, root positions and 2-D keys of every
-//!   joint, no DNA, no gap over `MAX_GAP`); otherwise the generator
-//!   pipeline (other partial keys, DNA, long gaps).
+//!   joint, no DNA, no gap over `MAX_GAP`); else the conditional network
+//!   when its manifest makes it the model for long gaps and every key is a
+//!   whole pose with rotations, without DNA, with a gap over `MAX_GAP`
+//!   ([`long_gap_keys`]: its hierarchy); otherwise the generator pipeline
+//!   (other partial keys, DNA, long gaps).
 //! - `generator`, `residual`, `cond`: that pipeline (the residual network
 //!   takes whole-pose keys only, no DNA, and always makes keys exact; the
 //!   conditional network takes what [`cond_takes`] accepts).
@@ -29,7 +32,7 @@
 //! root-only keys never run the generator at the residual network's
 //! default; it is checked by [`check_variation`](super::check_variation).
 
-pub use super::cond::{cond_takes, CondInfo};
+pub use super::cond::{cond_takes, long_gap_keys, CondInfo};
 use super::{check_variation, Keyframe, MAX_GAP};
 use crate::error::{Error, Result};
 
@@ -166,6 +169,13 @@ pub fn plan(ask: &Ask, loaded: &Loaded) -> Result<Plan> {
                 if c.default_for_partial_keys
                     && ask.post_process
                     && cond_takes(ask.keys, ask.dna) =>
+            {
+                chosen(Pipeline::Cond, c.variation)
+            }
+            (_, Some(c))
+                if c.default_for_long_gaps
+                    && ask.post_process
+                    && long_gap_keys(ask.keys, ask.dna) =>
             {
                 chosen(Pipeline::Cond, c.variation)
             }
@@ -368,6 +378,7 @@ mod tests {
             cond: Some(CondInfo {
                 variation: 0.9,
                 default_for_partial_keys,
+                default_for_long_gaps: false,
                 fill_gaps: None,
             }),
             ..LOADED
@@ -420,11 +431,59 @@ mod tests {
     }
 
     #[test]
+    fn long_whole_pose_gaps_go_to_the_conditional_network_when_its_manifest_says_so() {
+        let with_cond = |default_for_long_gaps| Loaded {
+            cond: Some(CondInfo {
+                variation: 0.8,
+                default_for_partial_keys: false,
+                default_for_long_gaps,
+                fill_gaps: None,
+            }),
+            ..LOADED
+        };
+        let far = [pose(0), pose(MAX_GAP + 1)];
+        let p = plan(&ask("model", &far), &with_cond(true)).unwrap();
+        assert_eq!((p.pipeline, p.variation), (Pipeline::Cond, 0.8));
+        // without the flag: the generator's hierarchy, as before
+        let p = plan(&ask("model", &far), &with_cond(false)).unwrap();
+        assert_eq!(p.pipeline, Pipeline::Generator);
+        // short gaps stay with the residual network; DNA, no post-processing
+        // and partial keys are not what the flag covers
+        let near = [pose(0), pose(MAX_GAP)];
+        let p = plan(&ask("model", &near), &with_cond(true)).unwrap();
+        assert_eq!(p.pipeline, Pipeline::Residual);
+        let dna = Ask {
+            dna: true,
+            ..ask("model", &far)
+        };
+        assert_eq!(
+            plan(&dna, &with_cond(true)).unwrap().pipeline,
+            Pipeline::Generator
+        );
+        let raw = Ask {
+            post_process: false,
+            ..ask("model", &far)
+        };
+        assert_eq!(
+            plan(&raw, &with_cond(true)).unwrap().pipeline,
+            Pipeline::Generator
+        );
+        let roots = [root(0), root(MAX_GAP + 1)];
+        assert_eq!(
+            plan(&ask("model", &roots), &with_cond(true))
+                .unwrap()
+                .pipeline,
+            Pipeline::Generator
+        );
+    }
+
+    #[test]
     fn the_fill_method_runs_the_gap_filling_network_on_whole_poses_only() {
         let with_fill = Loaded {
             fill: Some(CondInfo {
                 variation: 1.0,
                 default_for_partial_keys: false,
+                default_for_long_gaps: false,
                 fill_gaps: Some((1, 45)),
             }),
             ..LOADED

@@ -443,3 +443,54 @@ fn a_hermite_context_base_is_the_fill_curve_at_variation_zero() {
     }
     assert!(apart > 0.1, "the SLERP+LERP base is {apart} from the curve");
 }
+
+/// With `default_for_long_gaps` in its manifest (a stand-in: the bundled
+/// network's manifest with the flag set), `deeprep inbetween` with the
+/// `model` method sends whole-pose keys 700 frames apart to the conditional
+/// network's hierarchy instead of the generator, and keys at most 600
+/// apart stay with the residual network.
+#[test]
+fn long_whole_pose_gaps_go_where_the_manifest_says() {
+    if model().is_none() {
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("deeprep_longgap_{}", std::process::id()));
+    let lib = dir.join("models");
+    std::fs::create_dir_all(&lib).unwrap();
+    let src = root().join("models/onnx");
+    for e in std::fs::read_dir(&src).unwrap() {
+        let e = e.unwrap();
+        if e.file_type().unwrap().is_file() {
+            std::fs::copy(e.path(), lib.join(e.file_name())).unwrap();
+        }
+    }
+    let input = dir.join("in.bvh");
+    std::fs::write(&input, crate::motion::fill::clip_text(801)).unwrap();
+    let run = |keys: &str| {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_deeprep"))
+            .args(["inbetween", "--from-bvh", input.to_str().unwrap()])
+            .args(["--keys", keys, "-o", dir.join("out.bvh").to_str().unwrap()])
+            .args(["--models", lib.to_str().unwrap()])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr).to_string();
+        assert!(o.status.success(), "{keys}: {err}");
+        err
+    };
+    let before = run("0,700");
+    assert!(before.contains("pipeline generator"), "{before}");
+    let mut manifest: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(src.join("tween_cond.manifest.json")).unwrap(),
+    )
+    .unwrap();
+    manifest["default_for_long_gaps"] = true.into();
+    std::fs::write(lib.join("tween_cond.manifest.json"), manifest.to_string()).unwrap();
+    let after = run("0,700");
+    assert!(after.contains("pipeline cond"), "{after}");
+    // one long gap among short ones is enough
+    let mixed = run("0,100,800");
+    assert!(mixed.contains("pipeline cond"), "{mixed}");
+    let near = run("0,300,700");
+    assert!(near.contains("pipeline residual"), "{near}");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -10,7 +10,7 @@ use deeprep::motion::fill::{self, Context, Gap};
 /// software writes them, unlike the crate's shortest form): the bundled
 /// example's first pose (models/examples/keys.json), its root walking at 1
 /// unit a frame and every joint the pose bends turning slowly.
-fn clip_text(frames: usize) -> String {
+pub(crate) fn clip_text(frames: usize) -> String {
     let Some(m) = models() else {
         return String::new();
     };
