@@ -225,6 +225,22 @@ fn models() -> Option<TweenModels> {
     Some(TweenModels::load_dir(&dir).unwrap())
 }
 
+/// A copy of models/onnx in a new temporary folder (`deeprep_TAG_PID`), for
+/// tests that change a manifest or add a stand-in network: (the folder, its
+/// models/ subfolder).
+fn models_copy(tag: &str) -> (std::path::PathBuf, std::path::PathBuf) {
+    let dir = std::env::temp_dir().join(format!("deeprep_{tag}_{}", std::process::id()));
+    let lib = dir.join("models");
+    std::fs::create_dir_all(&lib).unwrap();
+    for e in std::fs::read_dir(root().join("models/onnx")).unwrap() {
+        let e = e.unwrap();
+        if e.file_type().unwrap().is_file() {
+            std::fs::copy(e.path(), lib.join(e.file_name())).unwrap();
+        }
+    }
+    (dir, lib)
+}
+
 fn fixture_parity(name: &str) {
     if !root()
         .join(format!("models/onnx/fixtures/{name}.json"))

@@ -454,16 +454,8 @@ fn long_whole_pose_gaps_go_where_the_manifest_says() {
     if model().is_none() {
         return;
     }
-    let dir = std::env::temp_dir().join(format!("deeprep_longgap_{}", std::process::id()));
-    let lib = dir.join("models");
-    std::fs::create_dir_all(&lib).unwrap();
+    let (dir, lib) = crate::motion::models_copy("longgap");
     let src = root().join("models/onnx");
-    for e in std::fs::read_dir(&src).unwrap() {
-        let e = e.unwrap();
-        if e.file_type().unwrap().is_file() {
-            std::fs::copy(e.path(), lib.join(e.file_name())).unwrap();
-        }
-    }
     let input = dir.join("in.bvh");
     std::fs::write(&input, crate::motion::fill::clip_text(801)).unwrap();
     let run = |keys: &str| {

@@ -166,16 +166,8 @@ fn a_gap_filling_network_takes_the_gaps_its_manifest_claims() {
     if models().is_none() {
         return;
     }
-    let dir = std::env::temp_dir().join(format!("deeprep_fillnet_{}", std::process::id()));
-    let lib = dir.join("models");
-    std::fs::create_dir_all(&lib).unwrap();
+    let (dir, lib) = models_copy("fillnet");
     let src = root().join("models/onnx");
-    for e in std::fs::read_dir(&src).unwrap() {
-        let e = e.unwrap();
-        if e.file_type().unwrap().is_file() {
-            std::fs::copy(e.path(), lib.join(e.file_name())).unwrap();
-        }
-    }
     std::fs::copy(src.join("tween_cond.onnx"), lib.join("tween_fill.onnx")).unwrap();
     let mut manifest: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(src.join("tween_cond.manifest.json")).unwrap(),

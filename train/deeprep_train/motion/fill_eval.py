@@ -31,9 +31,9 @@ import tempfile
 
 import numpy as np
 
-from deeprep_train.bvh import fk_from_local, global_fk, local_fk, mat_to_quat, read_bvh, resample
+from deeprep_train.bvh import global_fk, read_bvh, resample
 from deeprep_train.motion.data import DATA, TRUE_FPS, VALIDATION, take_of
-from deeprep_train.motion.eval import FEET, cli, l2p_stats, npss, score
+from deeprep_train.motion.eval import FEET, blend_fk, cli, l2p_stats, npss, score
 from deeprep_train.paths import ROOT
 
 CONTEXT = 20
@@ -54,26 +54,6 @@ METHODS = {
     # gives it where one is bundled, else Hermite up to 45 frames; the residual network beyond)
     "model": ["--method", "model"],
 }
-
-
-def quat_to_mat(q):
-    w, x, y, z = np.moveaxis(q, -1, 0)
-    return np.stack([
-        np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
-        np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
-        np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1)], -2)
-
-
-def mix(bvh_a, bvh_b, s):
-    """Global (positions, rotations) of two fills' outputs mixed joint by joint:
-    local rotations normalized-lerped and translations lerped, weight s on b."""
-    ta, ra = local_fk(bvh_a)
-    tb, rb = local_fk(bvh_b)
-    qa, qb = mat_to_quat(ra), mat_to_quat(rb)
-    qb = qb * np.where((qa * qb).sum(-1, keepdims=True) < 0, -1.0, 1.0)
-    q = (1 - s) * qa + s * qb
-    q /= np.linalg.norm(q, axis=-1, keepdims=True)
-    return fk_from_local(bvh_a, (1 - s) * ta + s * tb, quat_to_mat(q))
 
 
 def windows(n, length, after):
@@ -125,7 +105,7 @@ def main():
                             if m.startswith("mix:"):
                                 # mix:A:B:S, the outputs of methods A and B mixed with weight S on B
                                 _, a_, b_, w = m.split(":")
-                                pred = mix(outs[(a_, p)], outs[(b_, p)], float(w))
+                                pred = blend_fk(outs[(a_, p)], outs[(a_, p)], outs[(b_, p)], float(w))
                                 for s in mine:
                                     score(acc[(m, after, L)], pred, (gpos, grot), [s - 1, s + L], feet, floor, mu, sd)
                                 continue
