@@ -179,6 +179,16 @@ def npss(gt, pred):
     return float(np.average(emd, weights=w))
 
 
+def heading_free(rot):
+    """Global rotations [F, J, 3, 3] with each frame's heading taken out:
+    premultiplied by the inverse of the turn about the vertical (y) that
+    points the hip's forward axis (its local z) where it points in the
+    horizontal plane."""
+    f = rot[:, 0, :, 2]
+    yaw = np.arctan2(f[:, 0], f[:, 2])
+    return np.einsum("fji,fkjl->fkil", axis_rot("Y", yaw), rot)
+
+
 def score(acc, pred, truth, keys, feet, floor, mu, sd):
     """Appends every key interval's metrics to acc. pred, truth: (global positions, rotations)."""
     ppos, prot = pred
@@ -201,6 +211,15 @@ def score(acc, pred, truth, keys, feet, floor, mu, sd):
         acc["l2q"].append(np.linalg.norm((qp - qg).reshape(b - a - 1, -1), axis=1).mean())
         acc["gt"].append(qg.reshape(b - a - 1, -1))
         acc["pred"].append(qp.reshape(b - a - 1, -1))
+        # the same with each frame's heading (the hip's turn about the
+        # vertical) taken out of every rotation, the truth's from the truth
+        # and the output's from the output: what the body does relative to
+        # where it faces, which root-only keys do not say (npss_parts)
+        hg, hp = mat_to_quat(heading_free(grot[sl])), mat_to_quat(heading_free(prot[sl]))
+        sign = np.sign((hg * hp).sum(-1, keepdims=True))
+        sign[sign == 0] = 1
+        acc.setdefault("gt_hf", []).append(hg.reshape(b - a - 1, -1))
+        acc.setdefault("pred_hf", []).append((hp * sign).reshape(b - a - 1, -1))
         fp = ppos[a:b, feet]
         v = np.linalg.norm(fp[1:, :, [0, 2]] - fp[:-1, :, [0, 2]], axis=-1)
         contact = fp[1:, :, 1] < floor + 5
@@ -382,6 +401,8 @@ def main(cfg):
             "L2P": float(np.mean(a["l2p"])), "L2Q": float(np.mean(a["l2q"])),
             "MPJPE": float(np.mean(a["mpjpe"])), "MPJPE_at_keys": float(np.mean(a["mpjpe_key"])),
             "NPSS": float(np.mean([npss(x[None], y[None]) for x, y in zip(a["gt"], a["pred"])])),
+            # NPSS with each frame's heading taken out of both (heading_free)
+            "NPSS_heading_free": float(np.mean([npss(x[None], y[None]) for x, y in zip(a["gt_hf"], a["pred_hf"])])),
             "foot_skate": float(np.mean(a["skate"])),
             "acceleration": float(np.mean(a["accel"])),
             "speed_ratio": float(np.mean(a["speed"]) / max(np.mean(a["gt_speed"]), 1e-12)),
