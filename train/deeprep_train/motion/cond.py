@@ -516,7 +516,8 @@ def train(args):
         g["lr"] = args.lr
     print(f"parameters: {sum(p.numel() for p in net.parameters()):,}", flush=True)
     w = {"pos": 1.0, "rot": 0.5, "root": 1.0, "vel": 1.0, "speed": args.speed_weight, "foot": args.foot_weight,
-         "l2p": args.l2p_weight, "spectral": args.spectral_weight, "gan": args.gan_weight, "div": args.div_weight}
+         "l2p": args.l2p_weight, "spectral": args.spectral_weight, "gan": args.gan_weight, "div": args.div_weight,
+         "npss": args.npss_weight}
     adv = None
     if args.gan_weight > 0:
         from deeprep_train.motion.residual_adv import Adversary
@@ -889,6 +890,8 @@ def main():
     ap.add_argument("--foot-weight", type=float, default=2.0)
     ap.add_argument("--l2p-weight", type=float, default=1.0)
     ap.add_argument("--spectral-weight", type=float, default=5.0)
+    ap.add_argument("--npss-weight", type=float, default=0.0,
+                    help="train: weight of the NPSS term (residual.npss_loss on each window's root-relative positions)")
     ap.add_argument("--gan-weight", type=float, default=0.0,
                     help="the adversarial stage: LSGAN discriminator on root-relative positions (residual_adv)")
     ap.add_argument("--lr-d", type=float, default=1e-4)

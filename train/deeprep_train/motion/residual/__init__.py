@@ -28,7 +28,7 @@ with `train --resume`, which falls back to it when train/cache is empty).
 """
 from deeprep_train.motion.residual.data import Clips, GATE_FRAMES, OUT, PHASE_FRAMES, PORTABLE, SCALE, Skeleton, canonical, features, from_sixd, key_phase, mirror, prepare, quat_to_mat, rot_y, sample_keys, sixd, slerp  # noqa: E501
 from deeprep_train.motion.residual.net import Block, DILATIONS, ResidualTween, apply, arch, build, fk, grow, load_ema, net_input, upsample2  # noqa: E501
-from deeprep_train.motion.residual.losses import adversarial_view, losses, make_batch, spectral_l1, supervised  # noqa: E501
+from deeprep_train.motion.residual.losses import adversarial_view, losses, make_batch, npss_loss, spectral_l1, supervised  # noqa: E501
 from deeprep_train.motion.residual.evaluation import L2P_SD, evaluate, l2p_sd, pick  # noqa: E501
 from deeprep_train.motion.residual.training import train  # noqa: E501
 from deeprep_train.motion.residual.export import export, portable, prune  # noqa: E501
@@ -66,6 +66,7 @@ __all__ = [
     "adversarial_view",
     "losses",
     "make_batch",
+    "npss_loss",
     "spectral_l1",
     "supervised",
     "L2P_SD",

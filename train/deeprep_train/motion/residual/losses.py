@@ -134,7 +134,29 @@ def supervised(skel, root, rot, pos, gt_root, gt_rot, gpos, w):
         # windows, hop 16): NPSS compares power spectra of short windows, and
         # an L1 on positions alone lets the output be smoother than the truth
         out["spectral"] = spectral_l1(pos - pos[:, :, :1], gpos - gpos[:, :, :1])
+    if w.get("npss"):
+        # the evaluation's NPSS on the whole window's root-relative positions:
+        # where and how much the body moves, not only how fast (issue 47:
+        # root-only keys' arms, train/notes/cond.md)
+        B, N = pos.shape[:2]
+        out["npss"] = npss_loss((pos - pos[:, :, :1]).reshape(B, N, -1), (gpos - gpos[:, :, :1]).reshape(B, N, -1))
     return out
+
+
+def npss_loss(a, b):
+    """motion.eval's NPSS (LaFAN1's) as a loss: a, b [B, N, F] the output's
+    and the truth's features over N frames; each window's earth mover's
+    distance between the normalized cumulative power spectra per feature,
+    weighted by the truth's power, averaged over the windows. On the
+    window's frames at once (the evaluation scores each key interval); it
+    grows with N, so it is divided by N here."""
+    pa = torch.fft.fft(a, dim=1).real ** 2
+    pb = torch.fft.fft(b, dim=1).real ** 2
+    ta, tb = pa.sum(1), pb.sum(1)
+    w = tb / tb.sum(1, keepdim=True).clamp(min=1e-12)
+    ca = torch.cumsum(pa / ta.clamp(min=1e-12)[:, None], 1)
+    cb = torch.cumsum(pb / tb.clamp(min=1e-12)[:, None], 1)
+    return ((ca - cb).abs().sum(1) * w).sum(1).mean() / a.shape[1]
 
 
 def spectral_l1(a, b, n_fft=64, hop=16):
