@@ -152,10 +152,10 @@ async function handleInit(msg) {
     } else {
       condManifest = await fetchText(urls.condManifest).catch(() => null);
       let isDefault = false;
-      // the model for partial keys or for long whole-pose gaps (motion::plan): loaded now
+      // the model for partial keys, root paths or long whole-pose gaps (motion::plan): loaded now
       try {
         const m = JSON.parse(condManifest);
-        isDefault = m?.default_for_partial_keys === true || m?.default_for_long_gaps === true;
+        isDefault = ['default_for_partial_keys', 'default_for_root_keys', 'default_for_long_gaps'].some((k) => m?.[k] === true);
       } catch { /* no manifest */ }
       if (isDefault) model.setCond(await fetchBytes(urls.cond), condManifest);
     }

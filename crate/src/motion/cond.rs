@@ -80,6 +80,20 @@ pub fn long_gap_keys(keys: &[Keyframe], dna: bool) -> bool {
             .any(|w| w[1].frame.abs_diff(w[0].frame) > crate::motion::MAX_GAP)
 }
 
+/// Whether `keys` are each a whole pose with rotations or a root position,
+/// at least one a root position (a path drawn on the ground, with or without
+/// poses), without Motion DNA and without a gap over
+/// [`MAX_GAP`](crate::motion::MAX_GAP) frames: what a manifest's
+/// `default_for_root_keys` gives the conditional network under `model`.
+pub fn root_keys(keys: &[Keyframe], dna: bool) -> bool {
+    let classes: Vec<Option<KeyClass>> = keys.iter().map(classify).collect();
+    cond_takes(keys, dna)
+        && classes
+            .iter()
+            .all(|c| matches!(c, Some(KeyClass::Pose | KeyClass::Root)))
+        && classes.contains(&Some(KeyClass::Root))
+}
+
 fn cond_reads(keys: &[Keyframe], dna: bool) -> bool {
     !dna && !keys.is_empty() && keys.iter().all(|k| classify(k).is_some())
 }
@@ -108,6 +122,10 @@ struct Manifest {
     /// frames.
     #[serde(default)]
     default_for_long_gaps: bool,
+    /// Whether `method: model` runs this network for root-only keys (with
+    /// or without whole poses among them; [`root_keys`]).
+    #[serde(default)]
+    default_for_root_keys: bool,
     /// The base over gaps with a whole-pose context frame: "slerp" (the
     /// default) or "hermite" ([`crate::motion::fill::hermite_curve`]).
     #[serde(default)]
@@ -185,6 +203,9 @@ pub struct CondInfo {
     /// Whether the `model` method runs it for whole-pose keys with a gap
     /// over [`MAX_GAP`](crate::motion::MAX_GAP) frames ([`long_gap_keys`]).
     pub default_for_long_gaps: bool,
+    /// Whether the `model` method runs it for root positions, alone or with
+    /// whole poses ([`root_keys`]).
+    pub default_for_root_keys: bool,
     /// A gap-filling network's shortest and longest gap under the `model`
     /// fill (its manifest's `fill_from`, default 1, and `fill_up_to`).
     pub fill_gaps: Option<(usize, usize)>,
@@ -202,6 +223,7 @@ pub fn info_of_manifest(json: &str) -> Result<CondInfo> {
         variation,
         default_for_partial_keys: m.default_for_partial_keys,
         default_for_long_gaps: m.default_for_long_gaps,
+        default_for_root_keys: m.default_for_root_keys,
         fill_gaps: m.fill_gaps()?,
     })
 }
@@ -249,6 +271,7 @@ mod model {
         /// Whether `method: model` runs it for root-only and 2-D keys.
         pub default_for_partial_keys: bool,
         default_for_long_gaps: bool,
+        default_for_root_keys: bool,
         /// Whether its base over gaps with context is the Hermite curve.
         context_base: bool,
         fill_gaps: Option<(usize, usize)>,
@@ -375,6 +398,7 @@ mod model {
                 default_variation,
                 default_for_partial_keys: m.default_for_partial_keys,
                 default_for_long_gaps: m.default_for_long_gaps,
+                default_for_root_keys: m.default_for_root_keys,
                 context_base,
                 fill_gaps,
                 coarse_rates: m.coarse_rates,
@@ -407,6 +431,7 @@ mod model {
                 variation: self.default_variation,
                 default_for_partial_keys: self.default_for_partial_keys,
                 default_for_long_gaps: self.default_for_long_gaps,
+                default_for_root_keys: self.default_for_root_keys,
                 fill_gaps: self.fill_gaps,
             }
         }

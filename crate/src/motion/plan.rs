@@ -14,7 +14,10 @@
 //!   partial keys, post-processing is on and it takes the keys
 //!   ([`cond_takes`]: whole poses, root positions and 2-D keys of every
 //!   joint, no DNA, no gap over `MAX_GAP`); else the conditional network
-//!   when its manifest makes it the model for long gaps and every key is a
+//!   when its manifest makes it the model for root keys, post-processing is
+//!   on and the keys are root positions, alone or with whole poses
+//!   ([`root_keys`]: no DNA, no gap over `MAX_GAP`); else the conditional
+//!   network when its manifest makes it the model for long gaps and every key is a
 //!   whole pose with rotations, without DNA, with a gap over `MAX_GAP`
 //!   ([`long_gap_keys`]: its hierarchy); otherwise the generator pipeline
 //!   (other partial keys, DNA, long gaps).
@@ -32,7 +35,7 @@
 //! root-only keys never run the generator at the residual network's
 //! default; it is checked by [`check_variation`](super::check_variation).
 
-pub use super::cond::{cond_takes, long_gap_keys, CondInfo};
+pub use super::cond::{cond_takes, long_gap_keys, root_keys, CondInfo};
 use super::{check_variation, Keyframe, MAX_GAP};
 use crate::error::{Error, Result};
 
@@ -169,6 +172,11 @@ pub fn plan(ask: &Ask, loaded: &Loaded) -> Result<Plan> {
                 if c.default_for_partial_keys
                     && ask.post_process
                     && cond_takes(ask.keys, ask.dna) =>
+            {
+                chosen(Pipeline::Cond, c.variation)
+            }
+            (_, Some(c))
+                if c.default_for_root_keys && ask.post_process && root_keys(ask.keys, ask.dna) =>
             {
                 chosen(Pipeline::Cond, c.variation)
             }
@@ -379,6 +387,7 @@ mod tests {
                 variation: 0.9,
                 default_for_partial_keys,
                 default_for_long_gaps: false,
+                default_for_root_keys: false,
                 fill_gaps: None,
             }),
             ..LOADED
@@ -437,6 +446,7 @@ mod tests {
                 variation: 0.8,
                 default_for_partial_keys: false,
                 default_for_long_gaps,
+                default_for_root_keys: false,
                 fill_gaps: None,
             }),
             ..LOADED
@@ -478,12 +488,76 @@ mod tests {
     }
 
     #[test]
+    fn root_keys_go_to_the_conditional_network_when_its_manifest_says_so() {
+        let with_cond = |default_for_root_keys| Loaded {
+            cond: Some(CondInfo {
+                variation: 0.7,
+                default_for_partial_keys: false,
+                default_for_long_gaps: false,
+                default_for_root_keys,
+                fill_gaps: None,
+            }),
+            ..LOADED
+        };
+        // a root path, alone or after a whole pose (the sketching page's)
+        for keys in [vec![root(0), root(60)], vec![pose(0), root(60), root(120)]] {
+            let p = plan(&ask("model", &keys), &with_cond(true)).unwrap();
+            assert_eq!((p.pipeline, p.variation), (Pipeline::Cond, 0.7));
+            let p = plan(&ask("model", &keys), &with_cond(false)).unwrap();
+            assert_eq!(p.pipeline, Pipeline::Generator);
+        }
+        // whole poses stay with the residual network; 2-D keys, DNA, no
+        // post-processing and a gap over MAX_GAP are not what the flag covers
+        let poses = [pose(0), pose(60)];
+        let p = plan(&ask("model", &poses), &with_cond(true)).unwrap();
+        assert_eq!(p.pipeline, Pipeline::Residual);
+        let xy = Keyframe::xy(
+            60,
+            &[Some([0.0, 50.0]), Some([1.0, 60.0])],
+            Some([0.0, 50.0, 0.0]),
+        )
+        .unwrap();
+        let flat = [root(0), xy];
+        assert_eq!(
+            crate::motion::cond::classify(&flat[1]),
+            Some(crate::motion::cond::KeyClass::Xy)
+        );
+        let p = plan(&ask("model", &flat), &with_cond(true)).unwrap();
+        assert_eq!(p.pipeline, Pipeline::Generator);
+        let roots = [root(0), root(60)];
+        let dna = Ask {
+            dna: true,
+            ..ask("model", &roots)
+        };
+        assert_eq!(
+            plan(&dna, &with_cond(true)).unwrap().pipeline,
+            Pipeline::Generator
+        );
+        let raw = Ask {
+            post_process: false,
+            ..ask("model", &roots)
+        };
+        assert_eq!(
+            plan(&raw, &with_cond(true)).unwrap().pipeline,
+            Pipeline::Generator
+        );
+        let far = [root(0), root(MAX_GAP + 1)];
+        assert_eq!(
+            plan(&ask("model", &far), &with_cond(true))
+                .unwrap()
+                .pipeline,
+            Pipeline::Generator
+        );
+    }
+
+    #[test]
     fn the_fill_method_runs_the_gap_filling_network_on_whole_poses_only() {
         let with_fill = Loaded {
             fill: Some(CondInfo {
                 variation: 1.0,
                 default_for_partial_keys: false,
                 default_for_long_gaps: false,
+                default_for_root_keys: false,
                 fill_gaps: Some((1, 45)),
             }),
             ..LOADED

@@ -486,3 +486,45 @@ fn long_whole_pose_gaps_go_where_the_manifest_says() {
     assert!(near.contains("pipeline residual"), "{near}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// With `default_for_root_keys` in its manifest (a stand-in: the bundled
+/// network's manifest with the flag set), `deeprep inbetween --key-kind
+/// root` with the `model` method runs the conditional network instead of the
+/// generator; whole-pose and 2-D keys keep their pipelines.
+#[test]
+fn root_keys_go_where_the_manifest_says() {
+    if model().is_none() {
+        return;
+    }
+    let (dir, lib) = crate::motion::models_copy("rootkeys");
+    let src = root().join("models/onnx");
+    let input = dir.join("in.bvh");
+    std::fs::write(&input, crate::motion::fill::clip_text(241)).unwrap();
+    let run = |kind: &str| {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_deeprep"))
+            .args(["inbetween", "--from-bvh", input.to_str().unwrap()])
+            .args(["--keys", "0,120,240", "--key-kind", kind])
+            .args(["-o", dir.join("out.bvh").to_str().unwrap()])
+            .args(["--models", lib.to_str().unwrap()])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr).to_string();
+        assert!(o.status.success(), "{kind}: {err}");
+        err
+    };
+    let before = run("root");
+    assert!(before.contains("pipeline generator"), "{before}");
+    let mut manifest: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(src.join("tween_cond.manifest.json")).unwrap(),
+    )
+    .unwrap();
+    manifest["default_for_root_keys"] = true.into();
+    std::fs::write(lib.join("tween_cond.manifest.json"), manifest.to_string()).unwrap();
+    let after = run("root");
+    assert!(after.contains("pipeline cond"), "{after}");
+    let poses = run("pose");
+    assert!(poses.contains("pipeline residual"), "{poses}");
+    let xy = run("xy");
+    assert!(xy.contains("pipeline generator"), "{xy}");
+    std::fs::remove_dir_all(&dir).ok();
+}

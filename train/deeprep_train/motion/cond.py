@@ -820,6 +820,7 @@ def export(args):
         "exporter": {"torch": torch.__version__, "onnxruntime": ort.__version__, "opset": 17},
         "default_for_partial_keys": bool(args.default_for_partial_keys),
         "default_for_long_gaps": bool(args.default_for_long_gaps),
+        "default_for_root_keys": bool(args.default_for_root_keys),
         "context_base": "hermite" if net.context_base else "slerp",
         "coarse_rates": net.coarse_rates,
         "captured_joint_speed": captured_speed(skel, clips),
@@ -941,6 +942,9 @@ def main():
     ap.add_argument("--default-for-long-gaps", type=int, default=0,
                     help="export: 1 makes the manifest name this network the `model` method's for whole-pose keys "
                          "with a gap over 600 frames (its hierarchy; motion::plan)")
+    ap.add_argument("--default-for-root-keys", type=int, default=0,
+                    help="export: 1 makes it the `model` method's network for root positions, alone or with whole "
+                         "poses (manifest default_for_root_keys; motion::plan)")
     ap.add_argument("--default-for-partial-keys", type=int, default=0,
                     help="export: 1 makes the manifest name this network the `model` method's for root-only and "
                          "2-D keys (only after it beat the generator by the rule in train/notes/cond.md)")
