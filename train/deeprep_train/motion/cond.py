@@ -421,6 +421,26 @@ def make_batch(clips, skel, prior, b, n, rng, do_mirror, device, fill_share=0.0,
     return [torch.stack(v).to(device) for v in (xs, gr_, gq_, br, bq, tr, tq, offs)]
 
 
+def short_gap_l1(x, pos, gpos, K, longest=45, ref=30.0, cap=4.0):
+    """Position L1 on the frames of key intervals of at most `longest`
+    frames, each frame weighted by ref / (its interval's length), at most
+    `cap`, over the weights' sum (issue 50); intervals between two
+    whole-pose keys only (a root-only key says nothing of the pose). The supervised terms average
+    over every frame, where long gaps' errors (which grow with the gap)
+    outweigh short ones': in its own training layouts the gap-filling
+    network added error to its base at 8-12-frame gaps (0.73 against 0.62
+    units, train/notes/cond.md). x: the input [B, C, N] (the phase of all
+    keys after the base, the pose keys' phase and flag), pos, gpos [B, N, J, 3]."""
+    i = 3 + 6 * K  # group_phase of the whole-pose keys (s, since, to, gate), its flag, then all keys'
+    span = (x[:, i + 1] + x[:, i + 2]) * PHASE_FRAMES
+    span_all = (x[:, i + 6] + x[:, i + 7]) * PHASE_FRAMES
+    # intervals between two whole-pose keys with no other key between them
+    between = (span > 0) & (span <= longest) & ((span - span_all).abs() < 1e-3)
+    m = (ref / span.clamp(min=1.0)).clamp(max=cap) * between
+    err = (pos - gpos).abs().sum(-1).mean(-1)
+    return (err * m).sum() / m.sum().clamp(min=1.0)
+
+
 def losses(net, skel, batch, w, adv=None, tau=0.1):
     """The supervised terms (the whole-pose recipe's); with `adv`
     (residual_adv.Adversary) the LSGAN term on root-relative positions;
@@ -435,6 +455,8 @@ def losses(net, skel, batch, w, adv=None, tau=0.1):
     pos = fk(skel, root, rot, offs) / SCALE
     gpos = fk(skel, gt_root, gt_rot, offs) / SCALE
     out = supervised(skel, root, rot, pos, gt_root, gt_rot, gpos, w)
+    if w.get("short"):
+        out["short"] = short_gap_l1(x, pos, gpos, rot.shape[2])
     rel = pos - pos[:, :, :1]
     fakes = [rel]
     if w.get("div"):
@@ -517,7 +539,7 @@ def train(args):
     print(f"parameters: {sum(p.numel() for p in net.parameters()):,}", flush=True)
     w = {"pos": 1.0, "rot": 0.5, "root": 1.0, "vel": 1.0, "speed": args.speed_weight, "foot": args.foot_weight,
          "l2p": args.l2p_weight, "spectral": args.spectral_weight, "gan": args.gan_weight, "div": args.div_weight,
-         "npss": args.npss_weight}
+         "npss": args.npss_weight, "short": args.short_gap_weight}
     adv = None
     if args.gan_weight > 0:
         from deeprep_train.motion.residual_adv import Adversary
@@ -891,6 +913,9 @@ def main():
     ap.add_argument("--foot-weight", type=float, default=2.0)
     ap.add_argument("--l2p-weight", type=float, default=1.0)
     ap.add_argument("--spectral-weight", type=float, default=5.0)
+    ap.add_argument("--short-gap-weight", type=float, default=0.0,
+                    help="train: weight of short_gap_l1 (position L1 on intervals of at most 45 frames, "
+                         "short ones weighted up)")
     ap.add_argument("--npss-weight", type=float, default=0.0,
                     help="train: weight of the NPSS term (residual.npss_loss on each window's root-relative positions)")
     ap.add_argument("--gan-weight", type=float, default=0.0,
