@@ -111,7 +111,7 @@ export async function synthesize() {
     const ms = performance.now() - t0;
     $('timing').textContent = `${r.frames} frames in ${ms.toFixed(0)} ms` + (r.ran === 'generator' ? ` (generator ${r.times[0].toFixed(0)} ms, RC-FK ${r.times[1].toFixed(0)}, path ${r.times[2].toFixed(0)}, post ${r.times[3].toFixed(0)})` : '')
       + (partial && r.keyErrors ? `; keys met within ${r.keyErrors.after.root.toFixed(2)} (root), ${r.keyErrors.after.joints.toFixed(2)} (joints, the coordinates keys give) units; the networks alone missed by ${r.keyErrors.before.root.toFixed(1)}, ${r.keyErrors.before.joints.toFixed(1)}` : '')
-      + (r.criticalFrames?.length ? `; hierarchical (a gap over 600 frames): critical keys made first at frames ${r.criticalFrames.join(', ')}` : '');
+      + (r.criticalFrames?.length ? `; hierarchical (Sec. 5.4.3): critical keys made first at frames ${r.criticalFrames.join(', ')}` : '');
     $('progress').value = 1;
     $('progress-label').textContent = 'done';
     document.body.dataset.synthesized = String(r.frames);

@@ -512,6 +512,20 @@ mod model {
             variation: f32,
             seed: Option<u64>,
         ) -> Result<Motion> {
+            self.synthesize_critical(keys, frames, variation, seed)
+                .map(|(m, _)| m)
+        }
+
+        /// [`Self::synthesize`], with the frames of the critical keys its
+        /// coarse pass made (empty when every gap ran in one pass), for a
+        /// caller that shows them.
+        pub fn synthesize_critical(
+            &self,
+            keys: &[Keyframe],
+            frames: usize,
+            variation: f32,
+            seed: Option<u64>,
+        ) -> Result<(Motion, Vec<usize>)> {
             crate::motion::check_variation(variation)?;
             crate::motion::validate_keys(keys, frames, self.template.joints.len())?;
             let longest = keys
@@ -520,7 +534,10 @@ mod model {
                 .max()
                 .unwrap_or(0);
             if longest <= HIER_GAP {
-                return self.synthesize_flat(keys, frames, variation, seed, 1);
+                return Ok((
+                    self.synthesize_flat(keys, frames, variation, seed, 1)?,
+                    Vec::new(),
+                ));
             }
             let f = longest.div_ceil(COARSE_GAP);
             let coarse_frames = (frames - 1) / f + 1;
@@ -539,6 +556,7 @@ mod model {
             let rate = if self.coarse_rates { f } else { 1 };
             let rough = self.synthesize_flat(&coarse, coarse_frames, variation, seed, rate)?;
             let mut all: Vec<Keyframe> = keys.to_vec();
+            let mut critical = Vec::new();
             for w in keys.windows(2) {
                 let (a, b) = (w[0].frame, w[1].frame);
                 if b - a <= HIER_GAP {
@@ -563,10 +581,15 @@ mod model {
                         positions,
                         rotations: Some(rough.rotations[c].clone()),
                     });
+                    critical.push(t);
                 }
             }
             all.sort_by_key(|k| k.frame);
-            self.synthesize_flat(&all, frames, variation, seed, 1)
+            critical.sort_unstable();
+            Ok((
+                self.synthesize_flat(&all, frames, variation, seed, 1)?,
+                critical,
+            ))
         }
 
         /// One pass of the network over `frames` frames that are each `rate`

@@ -85,7 +85,8 @@ pub struct Served {
     /// then after (the generator and the conditional network; zeros for the
     /// others, whose keys are exact by construction).
     pub key_error: [f64; 4],
-    /// The critical frames a hierarchical synthesis made first.
+    /// The critical frames a hierarchical synthesis made first (the
+    /// generator's or the conditional network's).
     pub critical_frames: Vec<usize>,
     /// Foot locking's work, when asked.
     pub feet: Option<FootLockStats>,
@@ -123,7 +124,8 @@ pub fn run(models: &Models, p: Plan, req: Request, now_ms: &dyn Fn() -> f64) -> 
                 Pipeline::Fill => models.fill.ok_or_else(|| missing("gap-filling network"))?,
                 _ => models.cond.ok_or_else(|| missing("conditional network"))?,
             };
-            let mut m = c.synthesize(&req.keys, req.frames, p.variation, req.seed)?;
+            let (mut m, critical_frames) =
+                c.synthesize_critical(&req.keys, req.frames, p.variation, req.seed)?;
             let t_net = now_ms();
             let before = super::pipeline::key_error(&m, &req.keys, &c.parents, &c.offsets);
             if req.post_process && req.keys.iter().any(super::xy::is_xy_key) {
@@ -142,7 +144,7 @@ pub fn run(models: &Models, p: Plan, req: Request, now_ms: &dyn Fn() -> f64) -> 
                 // root and joints before post-processing (what the network
                 // gave: root positions and poses exact, 2-D keys not), then after
                 key_error: [before.root, before.local, after.root, after.local],
-                critical_frames: Vec::new(),
+                critical_frames,
                 feet,
             })
         }

@@ -221,13 +221,6 @@ fn synthesize(
                 "; key error before post-processing: root {:.3}, joints {:.3}; after: root {:.3}, joints {:.3}; stages ms: generator {:.1}, rc-fk {:.1}, path {:.1}, post {:.1}",
                 e[0], e[1], e[2], e[3], t[0], t[1], t[2], t[3]
             );
-            if !s.critical_frames.is_empty() {
-                info += &format!(
-                    "; hierarchical (a gap over {} frames): critical keys made first at frames {:?}",
-                    deeprep::motion::MAX_GAP,
-                    s.critical_frames
-                );
-            }
         }
         Pipeline::Cond | Pipeline::Fill => {
             let e = s.key_error;
@@ -237,6 +230,17 @@ fn synthesize(
             );
         }
         _ => info += &format!("; {:.1} ms", t[0]),
+    }
+    if !s.critical_frames.is_empty() {
+        // the gap over which each pipeline runs hierarchically
+        let over = match plan.pipeline {
+            Pipeline::Generator => deeprep::motion::MAX_GAP,
+            _ => deeprep::motion::cond::HIER_GAP,
+        };
+        info += &format!(
+            "; hierarchical (a gap over {over} frames): critical keys made first at frames {:?}",
+            s.critical_frames
+        );
     }
     if let Some(f) = s.feet {
         info += &format!(
