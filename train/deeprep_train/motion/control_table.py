@@ -60,7 +60,8 @@ def main():
         *rows(ctl, [m for m in NAMES if f"{m}@{gaps[0]}" in ctl], gaps),
         "",
         f"A 1,500-frame gap (keys 1,500 frames apart, {long[f'slerp@1500']['windows']} windows: the validation "
-        "clips long enough; the generator runs hierarchically over 600 frames, the conditional network over 300, Sec. 5.4.3; "
+        "clips long enough; hierarchically, Sec. 5.4.3: the generator over 600 frames, the conditional network over 300, "
+        "and for whole-pose keys the networks row is the conditional network's when its manifest says default_for_long_gaps; "
         "docs/inbetween_gap1500.json):",
         "",
         head,

@@ -38,6 +38,7 @@ each weight) and --cubic (Catmull-Rom splines through the keys, and the
 model with the spline's root position).
 """
 import argparse
+import datetime
 import json
 import os
 import re
@@ -413,6 +414,7 @@ def main(cfg):
             res[f"{m}@{g}"]["key_error_before_post"] = np.mean(a["keyraw"], 0).tolist()
             res[f"{m}@{g}"]["key_error_after_post"] = np.mean(a["key"], 0).tolist()
     res["ground_truth_foot_skate"] = float(np.mean(gt_skate))
+    res["measured"] = str(datetime.date.today())
     res["ground_truth_acceleration"] = float(np.mean(gt_accel))
     os.makedirs(os.path.join(ROOT, "docs"), exist_ok=True)
     out_json = cfg.json or os.path.join(ROOT, "docs", "inbetween_hybrids.json" if DIAGNOSTICS else

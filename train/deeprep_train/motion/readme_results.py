@@ -41,6 +41,10 @@ def main():
     G = "generator" if "generator@30" in ev else "model"
     npss_wins, l2p_wins = wins(G, "NPSS"), wins(G, "L2P")
     resid_default = bool(resid and resid.get("default_for_whole_pose_keys"))
+    try:
+        cond_long = bool(M("tween_cond").get("default_for_long_gaps"))
+    except FileNotFoundError:
+        cond_long = False
 
     variation = gen.get("variation", 1.0)
 
@@ -99,7 +103,10 @@ def main():
                        "with supervision only (no adversarial stage, no Motion DNA)") + f"; {default_note}.\n")
     MODEL_TEXT = ("\"model\" is the default pipeline (`deeprep inbetween` without `--method`): for whole-pose keys "
                   "without Motion DNA and gaps up to 600 frames it runs the residual network at its default "
-                  f"variation ({resid.get('variation', 1.0):g}); otherwise (partial keys, DNA, longer gaps) the generator "
+                  f"variation ({resid.get('variation', 1.0):g}); "
+                  + ("whole-pose keys more than 600 frames apart go to the conditional network's hierarchy "
+                     "(its manifest's default_for_long_gaps); " if cond_long else "")
+                  + f"otherwise (partial keys, DNA{'' if cond_long else ', longer gaps'}) the generator "
                   f"pipeline at the generator's default variation ({variation:g}). Post-processing makes the keys exact."
                   if resid_default else
                   f"\"model\" is the default pipeline at the model's default variation ({variation:g}): post-processing "
@@ -168,7 +175,20 @@ next: train/README.md and the issue notes.
     for name, marker, text in (("README.md", "models", models), ("docs/results.md", "results", results)):
         p = os.path.join(ROOT, name)
         s = open(p).read()
-        s = re.sub(rf"<!-- {marker} -->.*?<!-- /{marker} -->", lambda _: text, s, flags=re.S)
+        old = re.search(rf"<!-- {marker} -->.*?<!-- /{marker} -->", s, flags=re.S).group(0)
+        if marker == "models":
+            # rows of models this script does not describe (written with their
+            # own rules, e.g. tween_cond.onnx's in train/notes/cond.md) stay
+            mine = set(re.findall(r"^\| `([^`]+)`", text, flags=re.M))
+            kept = [r for r in old.splitlines() if re.match(r"^\| `([^`]+)`", r)
+                    and re.match(r"^\| `([^`]+)`", r).group(1) not in mine]
+            text = text.replace("<!-- /models -->", "".join(r + "\n" for r in kept) + "<!-- /models -->")
+        else:
+            # the date the evaluation ran (its JSON's "measured"), else the one already written
+            was = re.search(r"Measured (\S+) with", old)
+            date = ev.get("measured") or (was.group(1) if was else str(datetime.date.today()))
+            text = re.sub(r"Measured \S+ with", f"Measured {date} with", text, count=1)
+        s = s.replace(old, text)
         open(p, "w").write(s)
     print(models)
     print(results)
