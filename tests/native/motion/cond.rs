@@ -59,7 +59,9 @@ fn tract_matches_onnxruntime_on_the_conditional_network() {
     if model().is_none() {
         return;
     }
-    common::fixture_parity("tween_cond", 1e-4);
+    // float32 noise through a dilated network whose outputs reach about 150
+    // (tract 1.5e-4 from onnxruntime for the network bundled 2026-12-07)
+    common::fixture_parity("tween_cond", 2e-4);
 }
 
 /// Every case of the fixture: the same motion as cond.py's features and
@@ -306,18 +308,23 @@ fn a_long_gap_keeps_moving() {
 /// short enough for one pass is unchanged.
 #[test]
 fn coarse_rates_in_the_manifest_reach_the_coarse_pass_only() {
-    let Some(plain) = model() else { return };
+    if model().is_none() {
+        return;
+    }
     let dir = root().join("models/onnx");
     let mut manifest: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(dir.join("tween_cond.manifest.json")).unwrap(),
     )
     .unwrap();
-    manifest["coarse_rates"] = true.into();
-    let coarse = CondModel::new(
-        &std::fs::read(dir.join("tween_cond.onnx")).unwrap(),
-        &manifest.to_string(),
-    )
-    .unwrap();
+    let mut with_rates = |on: bool| {
+        manifest["coarse_rates"] = on.into();
+        CondModel::new(
+            &std::fs::read(dir.join("tween_cond.onnx")).unwrap(),
+            &manifest.to_string(),
+        )
+        .unwrap()
+    };
+    let (plain, coarse) = (with_rates(false), with_rates(true));
     let joints = plain.template.joints.len();
     let keys = |last: usize| -> Vec<Keyframe> {
         [0usize, last]
@@ -444,11 +451,11 @@ fn a_hermite_context_base_is_the_fill_curve_at_variation_zero() {
     assert!(apart > 0.1, "the SLERP+LERP base is {apart} from the curve");
 }
 
-/// With `default_for_long_gaps` in its manifest (a stand-in: the bundled
-/// network's manifest with the flag set), `deeprep inbetween` with the
-/// `model` method sends whole-pose keys 700 frames apart to the conditional
-/// network's hierarchy instead of the generator, and keys at most 600
-/// apart stay with the residual network.
+/// With `default_for_long_gaps` in its manifest (stand-ins: the bundled
+/// network's manifest with the flag off, then on), `deeprep inbetween` with
+/// the `model` method sends whole-pose keys 700 frames apart to the
+/// conditional network's hierarchy instead of the generator, and keys at
+/// most 600 apart stay with the residual network.
 #[test]
 fn long_whole_pose_gaps_go_where_the_manifest_says() {
     if model().is_none() {
@@ -469,16 +476,25 @@ fn long_whole_pose_gaps_go_where_the_manifest_says() {
         assert!(o.status.success(), "{keys}: {err}");
         err
     };
-    let before = run("0,700");
-    assert!(before.contains("pipeline generator"), "{before}");
     let mut manifest: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(src.join("tween_cond.manifest.json")).unwrap(),
     )
     .unwrap();
+    manifest["default_for_long_gaps"] = false.into();
+    std::fs::write(lib.join("tween_cond.manifest.json"), manifest.to_string()).unwrap();
+    let before = run("0,700");
+    assert!(before.contains("pipeline generator"), "{before}");
     manifest["default_for_long_gaps"] = true.into();
     std::fs::write(lib.join("tween_cond.manifest.json"), manifest.to_string()).unwrap();
     let after = run("0,700");
     assert!(after.contains("pipeline cond"), "{after}");
+    // its coarse pass runs at 1/3 of the frame rate (700 / 300 rounded
+    // up) and gives critical keys at the gap's thirds, on that rate's
+    // frames; the CLI reports them as it does the generator's
+    assert!(
+        after.contains("critical keys made first at frames [234, 468]"),
+        "{after}"
+    );
     // one long gap among short ones is enough
     let mixed = run("0,100,800");
     assert!(mixed.contains("pipeline cond"), "{mixed}");
