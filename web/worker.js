@@ -22,7 +22,7 @@
 //   <- {type: 'error', id, code, message, trapped}: trapped when the wasm instance
 //      hit a RuntimeError (a deeprep bug); the client then replaces this worker.
 // the package without the GPU code (web/pkg-core): a smaller download
-import init, { Inbetweener, IkSolver, BvhClip } from './pkg-core/deeprep.js';
+import init, { Inbetweener, IkSolver, BvhClip, maxGap } from './pkg-core/deeprep.js';
 import { hasRelaxedSimd, WARM_UP_ROUNDS } from './lib/wasm-features.js';
 
 /** Starts the wasm: the relaxed-SIMD build (issue 23: tract's matrix kernel
@@ -49,6 +49,20 @@ let ik = null;
 let skeletonNames = null;
 let residualManifest = null;
 let condManifest = null;
+// the conditional network's manifest makes it the model for gaps over maxGap() (motion::plan)
+let condForLongGaps = false;
+
+/** Whether a synthesis request has two keys more than maxGap() frames apart:
+ * then the planner may run the conditional network's hierarchy (the
+ * manifest's default_for_long_gaps; it also asks for whole poses without
+ * DNA, which the core checks), so it is loaded first. */
+function needsCondForGaps(msg) {
+  const frames = msg.type === 'synthesize'
+    ? (msg.keys ? msg.keys.map((k) => k.frame) : Array.from(msg.keyFrames || []))
+    : msg.type === 'synthesizeFromBvh' ? Array.from(msg.keys || []) : [];
+  const sorted = frames.filter(Number.isFinite).sort((a, b) => a - b);
+  return sorted.some((f, i) => i > 0 && f - sorted[i - 1] > maxGap());
+}
 
 /** An Error with a deeprep error code (see client.js). */
 function coded(code, message) {
@@ -145,17 +159,20 @@ async function handleInit(msg) {
       }
     }
     // The conditional network (issue 47: whole-pose, root-only and 2-D keys)
-    // likewise: now when its manifest makes it the model for partial keys,
-    // else on the first request that names method 'cond'.
+    // likewise: now when its manifest makes it the model for partial keys or
+    // root paths; when it makes it the model for long whole-pose gaps, on the
+    // first request with a gap over maxGap() frames (needsCondForGaps: most
+    // users never make one, and it is a 2 MB download); else on the first
+    // request that names method 'cond'.
     if (msg.models?.cond) {
       model.setCond(new Uint8Array(msg.models.cond), msg.models.condManifest);
     } else {
       condManifest = await fetchText(urls.condManifest).catch(() => null);
       let isDefault = false;
-      // the model for partial keys, root paths or long whole-pose gaps (motion::plan): loaded now
       try {
         const m = JSON.parse(condManifest);
-        isDefault = ['default_for_partial_keys', 'default_for_root_keys', 'default_for_long_gaps'].some((k) => m?.[k] === true);
+        isDefault = ['default_for_partial_keys', 'default_for_root_keys'].some((k) => m?.[k] === true);
+        condForLongGaps = m?.default_for_long_gaps === true;
       } catch { /* no manifest */ }
       if (isDefault) model.setCond(await fetchBytes(urls.cond), condManifest);
     }
@@ -336,7 +353,8 @@ onmessage = async (e) => {
       postMessage({ type: 'progress', id: msg.id, stage: 'loading the residual network', fraction: 0.05 });
       model.setResidual(await fetchBytes(urls.residual), residualManifest);
     }
-    if (['synthesize', 'synthesizeFromBvh', 'fillGaps'].includes(msg.type) && msg.method === 'cond' && model && !model.hasCond && condManifest) {
+    const wantsCond = msg.method === 'cond' || (condForLongGaps && (msg.method ?? 'model') === 'model' && needsCondForGaps(msg));
+    if (['synthesize', 'synthesizeFromBvh', 'fillGaps'].includes(msg.type) && wantsCond && model && !model.hasCond && condManifest) {
       postMessage({ type: 'progress', id: msg.id, stage: 'loading the conditional network', fraction: 0.05 });
       model.setCond(await fetchBytes(urls.cond), condManifest);
     }

@@ -83,9 +83,9 @@ test('sketch page: 3 keys, 512 frames, drawn, exported, undoable', async () => {
   // variation 0 (plain interpolation) gives a different motion through the same keys.
   // (the residual network's when its manifest makes it the model for whole-pose keys)
   const residual = JSON.parse(fs.readFileSync(path.join(ROOT, 'models/onnx/tween_residual.manifest.json'), 'utf8'));
-  const manifest = residual.default_for_whole_pose_keys ? residual
+  const chosen = residual.default_for_whole_pose_keys ? residual
     : JSON.parse(fs.readFileSync(path.join(ROOT, 'models/onnx/tween_generator.manifest.json'), 'utf8'));
-  const defaultVariation = manifest.variation ?? 1;
+  const defaultVariation = chosen.variation ?? 1;
   assert.equal(Number(await page.$eval('#variation', (el) => el.value)), defaultVariation);
   assert.equal(await page.textContent('#variation-value'), defaultVariation.toFixed(2));
   const sample = () => page.evaluate(() => Array.from(window.deeprepState.result.positions.subarray(0, 3 * 31 * 512)));
@@ -171,6 +171,10 @@ test('sketch page: 3 keys, 512 frames, drawn, exported, undoable', async () => {
   await page.click('#synth');
   await page.waitForSelector('body[data-synthesized="1600"]', { timeout: 120_000 });
   assert.match(await page.textContent('#timing'), /hierarchical.*critical keys made first at frames 300, 600, 900, 1200/);
+  // whole-pose keys that far apart go to the conditional network's hierarchy
+  // when its manifest says so (loaded by the worker for this request), else
+  // to the generator's
+  assert.equal((await ran(page)).pipeline, manifest('tween_cond').default_for_long_gaps ? 'cond' : 'generator');
   // A failed synthesis keeps the keys: a gap of more than 3,000 frames.
   await page.evaluate(() => { window.deeprepState.keys = [window.deeprepState.keys[0], { ...window.deeprepState.keys[1], frame: 3100 }]; });
   await page.fill('#length', '3200');

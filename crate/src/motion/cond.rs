@@ -528,6 +528,7 @@ mod model {
         ) -> Result<(Motion, Vec<usize>)> {
             crate::motion::check_variation(variation)?;
             crate::motion::validate_keys(keys, frames, self.template.joints.len())?;
+            crate::motion::check_long_gaps(keys)?;
             let longest = keys
                 .windows(2)
                 .map(|w| w[1].frame - w[0].frame)

@@ -101,16 +101,7 @@ impl Request {
         validate_keys(&self.keys, self.frames, joints)?;
         let variation = self.variation.unwrap_or(default);
         check_variation(variation)?;
-        for w in self.keys.windows(2) {
-            if w[1].frame - w[0].frame > MAX_LONG_GAP {
-                return Err(Error::Invalid(format!(
-                    "keys at frames {} and {} are {} frames apart; the model reaches {MAX_GAP} frames (10 s at 60 fps) directly and {MAX_LONG_GAP} (50 s) hierarchically",
-                    w[0].frame,
-                    w[1].frame,
-                    w[1].frame - w[0].frame
-                )));
-            }
-        }
+        check_long_gaps(&self.keys)?;
         if let Some(d) = &self.dna {
             if d.iter().any(|p| p.len() != 3 * joints) {
                 return Err(Error::Shape {
@@ -407,6 +398,21 @@ pub fn check_variation(variation: f32) -> Result<()> {
 /// Past it the networks' inputs leave every range they were trained on and
 /// float32 arithmetic loses the motion's detail.
 pub const MAX_KEY_COORD: f32 = 1e6;
+
+/// An error when two consecutive keys are more than [`MAX_LONG_GAP`] frames
+/// apart (what no pipeline reaches, hierarchically or not).
+pub fn check_long_gaps(keys: &[Keyframe]) -> Result<()> {
+    for w in keys.windows(2) {
+        let gap = w[1].frame.saturating_sub(w[0].frame);
+        if gap > MAX_LONG_GAP {
+            return Err(Error::Invalid(format!(
+                "keys at frames {} and {} are {gap} frames apart; the model reaches {MAX_GAP} frames (10 s at 60 fps) directly and {MAX_LONG_GAP} (50 s) hierarchically",
+                w[0].frame, w[1].frame
+            )));
+        }
+    }
+    Ok(())
+}
 
 /// Checks a key set against a length and a joint count: sorted, unique,
 /// inside the length, finite, within [`MAX_KEY_COORD`], the right size.

@@ -61,6 +61,15 @@ pub fn version() -> String {
     env!("CARGO_PKG_VERSION").to_string()
 }
 
+/// The longest gap between keys the networks run in one pass
+/// (`motion::MAX_GAP`, 600 frames); longer gaps run hierarchically, up to
+/// 3,000 frames. The npm worker loads the conditional network when a
+/// request has such a gap and its manifest makes it their model.
+#[wasm_bindgen(js_name = maxGap)]
+pub fn max_gap() -> u32 {
+    crate::motion::MAX_GAP as u32
+}
+
 /// `[x, y, z]` points as one flat array.
 fn flat3(p: &[[f32; 3]]) -> Vec<f32> {
     p.iter().flat_map(|v| v.iter().copied()).collect()

@@ -277,6 +277,20 @@ fn bad_conditional_manifests_are_errors() {
     assert_eq!(info.fill_gaps, Some((21, 45)));
 }
 
+/// Keys more than MAX_LONG_GAP (3,000) frames apart are an error, as they
+/// are for the generator's hierarchy, not a long computation.
+#[test]
+fn a_gap_beyond_the_hierarchys_reach_is_an_error() {
+    let Some(m) = model() else { return };
+    let joints = m.template.joints.len();
+    let keys: Vec<Keyframe> = [0usize, 3001]
+        .iter()
+        .map(|&f| Keyframe::root_only(f, [0.0, 90.0, f as f32], joints))
+        .collect();
+    let e = m.synthesize(&keys, 3002, 1.0, None).unwrap_err().to_string();
+    assert!(e.contains("3001 frames apart") && e.contains("3000"), "{e}");
+}
+
 /// A gap over HIER_GAP frames runs hierarchically: the keys stay exact and
 /// the limbs keep moving in the middle of a 1,000-frame gap (the knee turned
 /// 2.8 rad over frames 400-600 here, 0.26 in one pass).
