@@ -287,7 +287,10 @@ fn a_gap_beyond_the_hierarchys_reach_is_an_error() {
         .iter()
         .map(|&f| Keyframe::root_only(f, [0.0, 90.0, f as f32], joints))
         .collect();
-    let e = m.synthesize(&keys, 3002, 1.0, None).unwrap_err().to_string();
+    let e = m
+        .synthesize(&keys, 3002, 1.0, None)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("3001 frames apart") && e.contains("3000"), "{e}");
 }
 
