@@ -49,17 +49,23 @@ let ik = null;
 let skeletonNames = null;
 let residualManifest = null;
 let condManifest = null;
-// the conditional network's manifest makes it the model for gaps over maxGap() (motion::plan)
+// the conditional network's manifest makes it the model for gaps over
+// maxGap() / for root paths (motion::plan)
 let condForLongGaps = false;
+let condForRootKeys = false;
 
-/** Whether a synthesis request has two keys more than maxGap() frames apart:
- * then the planner may run the conditional network's hierarchy (the
- * manifest's default_for_long_gaps; it also asks for whole poses without
- * DNA, which the core checks), so it is loaded first. */
-function needsCondForGaps(msg) {
-  const frames = msg.type === 'synthesize'
-    ? (msg.keys ? msg.keys.map((k) => k.frame) : Array.from(msg.keyFrames || []))
-    : msg.type === 'synthesizeFromBvh' ? Array.from(msg.keys || []) : [];
+/** Whether the planner may run the conditional network for a `model`
+ * request, so that it is loaded first: a gap over maxGap() frames when its
+ * manifest says default_for_long_gaps, a root-only key when it says
+ * default_for_root_keys (the core checks the rest: whole poses, no DNA). */
+function needsCond(msg) {
+  if ((msg.method ?? 'model') !== 'model') return false;
+  const objects = msg.type === 'synthesize' && Array.isArray(msg.keys) ? msg.keys : null;
+  if (condForRootKeys && objects?.some((k) => k && k.root && !k.xy && !k.channels)) return true;
+  if (!condForLongGaps) return false;
+  const frames = objects ? objects.map((k) => k?.frame)
+    : msg.type === 'synthesize' ? Array.from(msg.keyFrames || [])
+      : msg.type === 'synthesizeFromBvh' ? Array.from(msg.keys || []) : [];
   const sorted = frames.filter(Number.isFinite).sort((a, b) => a - b);
   return sorted.some((f, i) => i > 0 && f - sorted[i - 1] > maxGap());
 }
@@ -159,11 +165,11 @@ async function handleInit(msg) {
       }
     }
     // The conditional network (issue 47: whole-pose, root-only and 2-D keys)
-    // likewise: now when its manifest makes it the model for partial keys or
-    // root paths; when it makes it the model for long whole-pose gaps, on the
-    // first request with a gap over maxGap() frames (needsCondForGaps: most
-    // users never make one, and it is a 2 MB download); else on the first
-    // request that names method 'cond'.
+    // likewise: now when its manifest makes it the model for partial keys;
+    // when it makes it the model for long whole-pose gaps or root paths, on
+    // the first request with a gap over maxGap() frames or a root-only key
+    // (needsCond: most users never make one, and it is a 2 MB download);
+    // else on the first request that names method 'cond'.
     if (msg.models?.cond) {
       model.setCond(new Uint8Array(msg.models.cond), msg.models.condManifest);
     } else {
@@ -171,8 +177,9 @@ async function handleInit(msg) {
       let isDefault = false;
       try {
         const m = JSON.parse(condManifest);
-        isDefault = ['default_for_partial_keys', 'default_for_root_keys'].some((k) => m?.[k] === true);
+        isDefault = m?.default_for_partial_keys === true;
         condForLongGaps = m?.default_for_long_gaps === true;
+        condForRootKeys = m?.default_for_root_keys === true;
       } catch { /* no manifest */ }
       if (isDefault) model.setCond(await fetchBytes(urls.cond), condManifest);
     }
@@ -353,7 +360,7 @@ onmessage = async (e) => {
       postMessage({ type: 'progress', id: msg.id, stage: 'loading the residual network', fraction: 0.05 });
       model.setResidual(await fetchBytes(urls.residual), residualManifest);
     }
-    const wantsCond = msg.method === 'cond' || (condForLongGaps && (msg.method ?? 'model') === 'model' && needsCondForGaps(msg));
+    const wantsCond = msg.method === 'cond' || needsCond(msg);
     if (['synthesize', 'synthesizeFromBvh', 'fillGaps'].includes(msg.type) && wantsCond && model && !model.hasCond && condManifest) {
       postMessage({ type: 'progress', id: msg.id, stage: 'loading the conditional network', fraction: 0.05 });
       model.setCond(await fetchBytes(urls.cond), condManifest);
