@@ -23,12 +23,15 @@
 #
 # Settings (environment): MINUTES (default 8, inside the 10-minute limit with
 # start-up and the write-back), BATCH (64), DEVICE (cuda), PORTABLE (the
-# committed checkpoint to start from, default checkpoints/tween_cond.pt;
-# INIT=checkpoints/tween_resid_w128b.pt starts a new one from the whole-pose
-# network instead) and EXTRA (more `cond train` flags; default the current
-# stage's: --gan-weight 0.1 --div-weight 1 --div-tau 0.06 --fill-share 0.2
-# --context-base 1 --short-every 3 --extra-share 0.5, a new discriminator
-# each run since the portable file carries none). Try it on the CPU first:
+# committed checkpoint to start from, default checkpoints/tween_cond_coarse.pt,
+# the bundled network's line; checkpoints/tween_cond.pt is the adversarial
+# run's; INIT=checkpoints/tween_resid_w128b.pt starts a new one from the
+# whole-pose network instead) and EXTRA (more `cond train` flags; default the
+# bundled line's next stage: --coarse-every 2 --short-every 3 --extra-share
+# 0.5; the adversarial run's were --gan-weight 0.1 --div-weight 1 --div-tau
+# 0.06 --fill-share 0.2 --context-base 1 --short-every 3 --extra-share 0.5,
+# a new discriminator each run since the portable file carries none). Try it
+# on the CPU first:
 #   OUT=/tmp/gpu_try DEVICE=cpu MINUTES=0.2 BATCH=2 bash train/gpu_job.sh
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -37,13 +40,12 @@ MINUTES=${MINUTES:-8}
 BATCH=${BATCH:-64}
 DEVICE=${DEVICE:-cuda}
 PY=${PY:-python3}
-PORTABLE=${PORTABLE:-checkpoints/tween_cond.pt}
+PORTABLE=${PORTABLE:-checkpoints/tween_cond_coarse.pt}
 INIT=${INIT:-}
-# the stage the CPU run is in (notes/cond.md): adversarial and diversity terms,
-# a fifth of the windows laid out as gaps in captured motion, on the Hermite
-# curve as the base over gaps with context (issue 50); every third batch of
+# the stage the CPU run is in (notes/cond.md): the bundled network's line, with
+# every second batch at the hierarchy's coarse rates and every third batch of
 # 150-frame windows, half of them from cmu-extra's walks and runs
-EXTRA=${EXTRA:---gan-weight 0.1 --div-weight 1 --div-tau 0.06 --fill-share 0.2 --context-base 1 --short-every 3 --extra-share 0.5}
+EXTRA=${EXTRA:---coarse-every 2 --short-every 3 --extra-share 0.5}
 [ -x .venv/bin/python ] && [ "$DEVICE" = cpu ] && PY=.venv/bin/python
 export PYTHONPATH="$PWD${PYTHONPATH:+:$PYTHONPATH}" PYTHONUNBUFFERED=1
 [ -f cache/resid60.npz ] || { echo "gpu_job: train/cache/resid60.npz is missing: carry it (see the header)" >&2; exit 2; }
