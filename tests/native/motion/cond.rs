@@ -468,6 +468,64 @@ fn a_hermite_context_base_is_the_fill_curve_at_variation_zero() {
     assert!(apart > 0.1, "the SLERP+LERP base is {apart} from the curve");
 }
 
+/// `deeprep inbetween` on a generated clip with a copy of the models folder
+/// whose conditional network's manifest a test changes (removed on drop).
+struct StandIn {
+    dir: std::path::PathBuf,
+    lib: std::path::PathBuf,
+    input: std::path::PathBuf,
+    manifest: serde_json::Value,
+}
+
+impl StandIn {
+    fn new(tag: &str, frames: usize) -> StandIn {
+        let (dir, lib) = crate::motion::models_copy(tag);
+        let input = dir.join("in.bvh");
+        std::fs::write(&input, crate::motion::fill::clip_text(frames)).unwrap();
+        let manifest = serde_json::from_str(
+            &std::fs::read_to_string(root().join("models/onnx/tween_cond.manifest.json")).unwrap(),
+        )
+        .unwrap();
+        StandIn {
+            dir,
+            lib,
+            input,
+            manifest,
+        }
+    }
+
+    /// Sets a flag of the copy's tween_cond manifest.
+    fn set(&mut self, flag: &str, on: bool) {
+        self.manifest[flag] = on.into();
+        std::fs::write(
+            self.lib.join("tween_cond.manifest.json"),
+            self.manifest.to_string(),
+        )
+        .unwrap();
+    }
+
+    /// `deeprep inbetween --from-bvh CLIP ARGS -o OUT --models COPY`: its
+    /// report (stderr), after checking that it succeeded.
+    fn run(&self, args: &[&str]) -> String {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_deeprep"))
+            .args(["inbetween", "--from-bvh", self.input.to_str().unwrap()])
+            .args(args)
+            .args(["-o", self.dir.join("out.bvh").to_str().unwrap()])
+            .args(["--models", self.lib.to_str().unwrap()])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr).to_string();
+        assert!(o.status.success(), "{args:?}: {err}");
+        err
+    }
+}
+
+impl Drop for StandIn {
+    fn drop(&mut self) {
+        std::fs::remove_dir_all(&self.dir).ok();
+    }
+}
+
 /// With `default_for_long_gaps` in its manifest (stand-ins: the bundled
 /// network's manifest with the flag off, then on), `deeprep inbetween` with
 /// the `model` method sends whole-pose keys 700 frames apart to the
@@ -478,32 +536,13 @@ fn long_whole_pose_gaps_go_where_the_manifest_says() {
     if model().is_none() {
         return;
     }
-    let (dir, lib) = crate::motion::models_copy("longgap");
-    let src = root().join("models/onnx");
-    let input = dir.join("in.bvh");
-    std::fs::write(&input, crate::motion::fill::clip_text(801)).unwrap();
-    let run = |keys: &str| {
-        let o = std::process::Command::new(env!("CARGO_BIN_EXE_deeprep"))
-            .args(["inbetween", "--from-bvh", input.to_str().unwrap()])
-            .args(["--keys", keys, "-o", dir.join("out.bvh").to_str().unwrap()])
-            .args(["--models", lib.to_str().unwrap()])
-            .output()
-            .unwrap();
-        let err = String::from_utf8_lossy(&o.stderr).to_string();
-        assert!(o.status.success(), "{keys}: {err}");
-        err
-    };
-    let mut manifest: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(src.join("tween_cond.manifest.json")).unwrap(),
-    )
-    .unwrap();
-    manifest["default_for_long_gaps"] = false.into();
-    std::fs::write(lib.join("tween_cond.manifest.json"), manifest.to_string()).unwrap();
-    let before = run("0,700");
+    let mut cli = StandIn::new("longgap", 801);
+    let run = |cli: &StandIn, keys: &str| cli.run(&["--keys", keys]);
+    cli.set("default_for_long_gaps", false);
+    let before = run(&cli, "0,700");
     assert!(before.contains("pipeline generator"), "{before}");
-    manifest["default_for_long_gaps"] = true.into();
-    std::fs::write(lib.join("tween_cond.manifest.json"), manifest.to_string()).unwrap();
-    let after = run("0,700");
+    cli.set("default_for_long_gaps", true);
+    let after = run(&cli, "0,700");
     assert!(after.contains("pipeline cond"), "{after}");
     // its coarse pass runs at 1/3 of the frame rate (700 / 300 rounded
     // up) and gives critical keys at the gap's thirds, on that rate's
@@ -513,11 +552,10 @@ fn long_whole_pose_gaps_go_where_the_manifest_says() {
         "{after}"
     );
     // one long gap among short ones is enough
-    let mixed = run("0,100,800");
+    let mixed = run(&cli, "0,100,800");
     assert!(mixed.contains("pipeline cond"), "{mixed}");
-    let near = run("0,300,700");
+    let near = run(&cli, "0,300,700");
     assert!(near.contains("pipeline residual"), "{near}");
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// With `default_for_root_keys` in its manifest (a stand-in: the bundled
@@ -529,35 +567,15 @@ fn root_keys_go_where_the_manifest_says() {
     if model().is_none() {
         return;
     }
-    let (dir, lib) = crate::motion::models_copy("rootkeys");
-    let src = root().join("models/onnx");
-    let input = dir.join("in.bvh");
-    std::fs::write(&input, crate::motion::fill::clip_text(241)).unwrap();
-    let run = |kind: &str| {
-        let o = std::process::Command::new(env!("CARGO_BIN_EXE_deeprep"))
-            .args(["inbetween", "--from-bvh", input.to_str().unwrap()])
-            .args(["--keys", "0,120,240", "--key-kind", kind])
-            .args(["-o", dir.join("out.bvh").to_str().unwrap()])
-            .args(["--models", lib.to_str().unwrap()])
-            .output()
-            .unwrap();
-        let err = String::from_utf8_lossy(&o.stderr).to_string();
-        assert!(o.status.success(), "{kind}: {err}");
-        err
-    };
-    let before = run("root");
+    let mut cli = StandIn::new("rootkeys", 241);
+    let run = |cli: &StandIn, kind: &str| cli.run(&["--keys", "0,120,240", "--key-kind", kind]);
+    let before = run(&cli, "root");
     assert!(before.contains("pipeline generator"), "{before}");
-    let mut manifest: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(src.join("tween_cond.manifest.json")).unwrap(),
-    )
-    .unwrap();
-    manifest["default_for_root_keys"] = true.into();
-    std::fs::write(lib.join("tween_cond.manifest.json"), manifest.to_string()).unwrap();
-    let after = run("root");
+    cli.set("default_for_root_keys", true);
+    let after = run(&cli, "root");
     assert!(after.contains("pipeline cond"), "{after}");
-    let poses = run("pose");
+    let poses = run(&cli, "pose");
     assert!(poses.contains("pipeline residual"), "{poses}");
-    let xy = run("xy");
+    let xy = run(&cli, "xy");
     assert!(xy.contains("pipeline generator"), "{xy}");
-    std::fs::remove_dir_all(&dir).ok();
 }

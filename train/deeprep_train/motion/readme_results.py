@@ -179,9 +179,9 @@ next: train/README.md and the issue notes.
         if marker == "models":
             # rows of models this script does not describe (written with their
             # own rules, e.g. tween_cond.onnx's in train/notes/cond.md) stay
-            mine = set(re.findall(r"^\| `([^`]+)`", text, flags=re.M))
-            kept = [r for r in old.splitlines() if re.match(r"^\| `([^`]+)`", r)
-                    and re.match(r"^\| `([^`]+)`", r).group(1) not in mine]
+            row = re.compile(r"^\| `([^`]+)`", flags=re.M)
+            mine = set(row.findall(text))
+            kept = [r for r in old.splitlines() if (m := row.match(r)) and m.group(1) not in mine]
             text = text.replace("<!-- /models -->", "".join(r + "\n" for r in kept) + "<!-- /models -->")
         else:
             # the date the evaluation ran (its JSON's "measured"), else the one already written
