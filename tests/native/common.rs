@@ -47,10 +47,17 @@ pub fn fixture(name: &str) -> serde_json::Value {
 pub fn fixture_parity(name: &str, tol: f32) {
     let f = fixture(name);
     let inputs: Vec<TensorF32> = match f["inputs"].as_object() {
-        Some(m) => m
-            .values()
-            .map(|v| TensorF32::new(floats(&v["data"]), sizes(&v["shape"])).unwrap())
-            .collect(),
+        // in the graph's order (`input_order`; serde_json's map is sorted)
+        Some(m) => match f["input_order"].as_array() {
+            Some(order) => order
+                .iter()
+                .map(|n| &m[n.as_str().unwrap()])
+                .collect::<Vec<_>>(),
+            None => m.values().collect(),
+        }
+        .into_iter()
+        .map(|v| TensorF32::new(floats(&v["data"]), sizes(&v["shape"])).unwrap())
+        .collect(),
         None => vec![TensorF32::new(floats(&f["input"]), sizes(&f["input_shape"])).unwrap()],
     };
     let path = root()

@@ -142,6 +142,11 @@ struct Manifest {
     /// `cond.py --coarse-every`), so the coarse pass tells it the rate.
     #[serde(default)]
     coarse_rates: bool,
+    /// Whether it takes Motion DNA (`cond.py --dna-share`): inputs `dna`
+    /// ([1, k, 3J], each pose's joints relative to the root with the root's
+    /// rotation removed, / scale) and `dna_w` ([1, k], 1 per pose given).
+    #[serde(default)]
+    dna: bool,
 }
 
 impl Manifest {
@@ -209,6 +214,8 @@ pub struct CondInfo {
     /// A gap-filling network's shortest and longest gap under the `model`
     /// fill (its manifest's `fill_from`, default 1, and `fill_up_to`).
     pub fill_gaps: Option<(usize, usize)>,
+    /// Whether it takes Motion DNA (its manifest's `dna`).
+    pub dna: bool,
 }
 
 /// What the request planner needs of a conditional network's manifest text
@@ -225,6 +232,7 @@ pub fn info_of_manifest(json: &str) -> Result<CondInfo> {
         default_for_long_gaps: m.default_for_long_gaps,
         default_for_root_keys: m.default_for_root_keys,
         fill_gaps: m.fill_gaps()?,
+        dna: m.dna,
     })
 }
 
@@ -276,6 +284,7 @@ mod model {
         context_base: bool,
         fill_gaps: Option<(usize, usize)>,
         coarse_rates: bool,
+        dna: bool,
     }
 
     /// Per frame of a group of keys: (s, frames since the previous key / P,
@@ -402,6 +411,7 @@ mod model {
                 context_base,
                 fill_gaps,
                 coarse_rates: m.coarse_rates,
+                dna: m.dna,
             })
         }
 
@@ -433,6 +443,7 @@ mod model {
                 default_for_long_gaps: self.default_for_long_gaps,
                 default_for_root_keys: self.default_for_root_keys,
                 fill_gaps: self.fill_gaps,
+                dna: self.dna,
             }
         }
 
@@ -526,7 +537,25 @@ mod model {
             variation: f32,
             seed: Option<u64>,
         ) -> Result<(Motion, Vec<usize>)> {
+            self.synthesize_dna(keys, frames, variation, seed, None)
+        }
+
+        /// [`Self::synthesize_critical`] with Motion DNA: poses of `3J`
+        /// numbers, each the joints' positions relative to the root with the
+        /// root's rotation removed ([`crate::motion::dna_pose`]), which the
+        /// network places in its output (thesis Sec. 5.2.5). An error when
+        /// the network has no DNA input (its manifest's `dna`).
+        pub fn synthesize_dna(
+            &self,
+            keys: &[Keyframe],
+            frames: usize,
+            variation: f32,
+            seed: Option<u64>,
+            dna: Option<&[Vec<f32>]>,
+        ) -> Result<(Motion, Vec<usize>)> {
             crate::motion::check_variation(variation)?;
+            let dna = self.dna_input(dna)?;
+            let dna = dna.as_ref();
             crate::motion::validate_keys(keys, frames, self.template.joints.len())?;
             crate::motion::check_long_gaps(keys)?;
             let longest = keys
@@ -536,7 +565,7 @@ mod model {
                 .unwrap_or(0);
             if longest <= HIER_GAP {
                 return Ok((
-                    self.synthesize_flat(keys, frames, variation, seed, 1)?,
+                    self.synthesize_flat(keys, frames, variation, seed, 1, dna)?,
                     Vec::new(),
                 ));
             }
@@ -555,7 +584,7 @@ mod model {
             }
             // a network trained at the coarse rates is told this pass' rate
             let rate = if self.coarse_rates { f } else { 1 };
-            let rough = self.synthesize_flat(&coarse, coarse_frames, variation, seed, rate)?;
+            let rough = self.synthesize_flat(&coarse, coarse_frames, variation, seed, rate, dna)?;
             let mut all: Vec<Keyframe> = keys.to_vec();
             let mut critical = Vec::new();
             for w in keys.windows(2) {
@@ -588,7 +617,7 @@ mod model {
             all.sort_by_key(|k| k.frame);
             critical.sort_unstable();
             Ok((
-                self.synthesize_flat(&all, frames, variation, seed, 1)?,
+                self.synthesize_flat(&all, frames, variation, seed, 1, dna)?,
                 critical,
             ))
         }
@@ -611,7 +640,47 @@ mod model {
             if !(1..=64).contains(&rate) {
                 return Err(Error::Invalid(format!("rate {rate}: expected 1 to 64")));
             }
-            self.synthesize_flat(keys, frames, variation, seed, rate)
+            let dna = self.dna_input(None)?;
+            self.synthesize_flat(keys, frames, variation, seed, rate, dna.as_ref())
+        }
+
+        /// The network's DNA inputs (`dna` [1, k, 3J] / scale, `dna_w`
+        /// [1, k]) for the poses given, or one zero pose at weight 0 for
+        /// none; `None` for a network without DNA input (an error when poses
+        /// are given to it).
+        fn dna_input(&self, dna: Option<&[Vec<f32>]>) -> Result<Option<(TensorF32, TensorF32)>> {
+            let p = 3 * self.template.joints.len();
+            if !self.dna {
+                return match dna {
+                    Some(_) => Err(Error::Invalid(
+                        "this conditional network takes no Motion DNA (its manifest does not say dna); \
+                         method generator does"
+                            .into(),
+                    )),
+                    None => Ok(None),
+                };
+            }
+            let (flat, w) = match dna {
+                Some(d) => {
+                    if d.is_empty() || d.iter().any(|f| f.len() != p) {
+                        return Err(Error::Shape {
+                            what: "Motion DNA".into(),
+                            expected: format!("one or more poses of {p} numbers"),
+                            found: format!("{} poses", d.len()),
+                        });
+                    }
+                    let s = self.scale as f32;
+                    let flat: Vec<f32> = d.iter().flatten().map(|v| v / s).collect();
+                    crate::error::check_finite("Motion DNA", &flat)?;
+                    (flat, vec![1.0; d.len()])
+                }
+                None => (vec![0.0; p], vec![0.0]),
+            };
+            let k = w.len();
+            Ok(Some((
+                TensorF32::new(flat, vec![1, k, p])?,
+                TensorF32::new(w, vec![1, k])?,
+            )))
         }
 
         /// One pass of the network over the whole request.
@@ -622,6 +691,7 @@ mod model {
             variation: f32,
             seed: Option<u64>,
             rate: usize,
+            dna: Option<&(TensorF32, TensorF32)>,
         ) -> Result<Motion> {
             let joints = self.template.joints.len();
             let classes: Vec<KeyClass> = keys
@@ -769,7 +839,11 @@ mod model {
                     }
                 }
             }
-            let out = self.net.run(&[TensorF32::new(x, vec![1, cin, n])?])?;
+            let x = TensorF32::new(x, vec![1, cin, n])?;
+            let out = match dna {
+                Some((d, w)) => self.net.run(&[x, d.clone(), w.clone()])?,
+                None => self.net.run(&[x])?,
+            };
             let res = out
                 .into_iter()
                 .next()

@@ -206,9 +206,11 @@ pub fn plan(ask: &Ask, loaded: &Loaded) -> Result<Plan> {
             let c = loaded
                 .cond
                 .ok_or_else(|| Error::Invalid("the conditional network is not loaded".into()))?;
-            if ask.dna {
+            if ask.dna && !c.dna {
                 return Err(Error::Invalid(
-                    "method cond takes no Motion DNA (it has no DNA input yet; method generator does)".into(),
+                    "method cond takes Motion DNA only from a network trained with it (its manifest says dna); \
+                     method generator does"
+                        .into(),
                 ));
             }
             chosen(Pipeline::Cond, c.variation)
@@ -381,6 +383,41 @@ mod tests {
     }
 
     #[test]
+    fn method_cond_takes_dna_when_its_manifest_says_so() {
+        let with_dna = |dna| Loaded {
+            cond: Some(CondInfo {
+                variation: 1.0,
+                default_for_partial_keys: false,
+                default_for_long_gaps: false,
+                default_for_root_keys: false,
+                fill_gaps: None,
+                dna,
+            }),
+            ..LOADED
+        };
+        let roots = [root(0), root(60)];
+        let cond = Ask {
+            dna: true,
+            ..ask("cond", &roots)
+        };
+        let e = plan(&cond, &with_dna(false)).unwrap_err().to_string();
+        assert!(e.contains("Motion DNA") && e.contains("generator"), "{e}");
+        assert_eq!(
+            plan(&cond, &with_dna(true)).unwrap().pipeline,
+            Pipeline::Cond
+        );
+        // `model` keeps DNA requests for the generator
+        let model = Ask {
+            dna: true,
+            ..ask("model", &roots)
+        };
+        assert_eq!(
+            plan(&model, &with_dna(true)).unwrap().pipeline,
+            Pipeline::Generator
+        );
+    }
+
+    #[test]
     fn partial_keys_go_to_the_conditional_network_when_its_manifest_says_so() {
         let with_cond = |default_for_partial_keys| Loaded {
             cond: Some(CondInfo {
@@ -389,6 +426,7 @@ mod tests {
                 default_for_long_gaps: false,
                 default_for_root_keys: false,
                 fill_gaps: None,
+                dna: false,
             }),
             ..LOADED
         };
@@ -448,6 +486,7 @@ mod tests {
                 default_for_long_gaps,
                 default_for_root_keys: false,
                 fill_gaps: None,
+                dna: false,
             }),
             ..LOADED
         };
@@ -496,6 +535,7 @@ mod tests {
                 default_for_long_gaps: false,
                 default_for_root_keys,
                 fill_gaps: None,
+                dna: false,
             }),
             ..LOADED
         };
@@ -559,6 +599,7 @@ mod tests {
                 default_for_long_gaps: false,
                 default_for_root_keys: false,
                 fill_gaps: Some((1, 45)),
+                dna: false,
             }),
             ..LOADED
         };

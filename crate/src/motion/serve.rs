@@ -124,8 +124,13 @@ pub fn run(models: &Models, p: Plan, req: Request, now_ms: &dyn Fn() -> f64) -> 
                 Pipeline::Fill => models.fill.ok_or_else(|| missing("gap-filling network"))?,
                 _ => models.cond.ok_or_else(|| missing("conditional network"))?,
             };
-            let (mut m, critical_frames) =
-                c.synthesize_critical(&req.keys, req.frames, p.variation, req.seed)?;
+            let (mut m, critical_frames) = c.synthesize_dna(
+                &req.keys,
+                req.frames,
+                p.variation,
+                req.seed,
+                req.dna.as_deref(),
+            )?;
             let t_net = now_ms();
             let before = super::pipeline::key_error(&m, &req.keys, &c.parents, &c.offsets);
             if req.post_process && req.keys.iter().any(super::xy::is_xy_key) {

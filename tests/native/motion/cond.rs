@@ -218,6 +218,66 @@ fn the_conditional_network_takes_a_seed_as_its_noise() {
     }
 }
 
+/// Motion DNA reaches the conditional network only when its manifest says
+/// `dna` (issue 47): then DNA poses change the in-between frames and leave
+/// the keys exact, and a pose of the wrong size is an error; without it,
+/// DNA is an error that points to the generator.
+#[test]
+fn motion_dna_reaches_the_conditional_network_when_its_manifest_says_so() {
+    let Some(m) = model() else { return };
+    let joints = m.template.joints.len();
+    let keys: Vec<Keyframe> = (0..3)
+        .map(|i| Keyframe::root_only(60 * i, [0.0, 90.0, 150.0 * i as f32], joints))
+        .collect();
+    // a DNA pose: the rest pose's joints relative to the root, one knee raised
+    let rest = deeprep::motion::Motion {
+        root: vec![[0.0; 3]],
+        rotations: vec![vec![
+            [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+            joints
+        ]],
+    };
+    let mut pose: Vec<f32> = rest
+        .local_positions(0, &m.parents, &m.offsets)
+        .iter()
+        .flat_map(|p| p.map(|v| v as f32))
+        .collect();
+    let knee = rotating_knee(&m);
+    pose[3 * knee + 1] += 30.0;
+    let dna = vec![pose];
+    let got = m.synthesize_dna(&keys, 121, 1.0, None, Some(&dna));
+    if !m.info().dna {
+        let e = got.unwrap_err().to_string();
+        assert!(
+            e.contains("takes no Motion DNA") && e.contains("generator"),
+            "{e}"
+        );
+        return;
+    }
+    let (with, _) = got.unwrap();
+    let (without, _) = m.synthesize_dna(&keys, 121, 1.0, None, None).unwrap();
+    let moved = (0..121)
+        .map(|t| {
+            deeprep::rotation::geodesic_distance(
+                &with.rotations[t][knee],
+                &without.rotations[t][knee],
+            )
+        })
+        .fold(0.0, f64::max);
+    assert!(moved > 1e-3, "DNA moved the joint by at most {moved} rad");
+    for k in &keys {
+        for (o, p) in with.root[k.frame].iter().zip(&k.positions) {
+            assert!((o - *p as f64).abs() < 1e-3);
+        }
+    }
+    let short = vec![vec![0.0f32; 3 * joints - 1]];
+    let e = m
+        .synthesize_dna(&keys, 121, 1.0, None, Some(&short))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("Motion DNA"), "{e}");
+}
+
 /// A manifest that does not fit its network or skeleton is an error that
 /// names the field, before any ONNX is read.
 #[test]

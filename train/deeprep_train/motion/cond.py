@@ -65,12 +65,14 @@ import time
 import numpy as np
 import torch
 import torch.nn as nn
+import torch.nn.functional as F
 
 from deeprep_train.paths import ROOT, CACHE
 from deeprep_train.motion.eval import npss
+from deeprep_train.motion import dna as dna_rule
 from deeprep_train.motion.residual import (
     GATE_FRAMES, PHASE_FRAMES, SCALE, Clips, ResidualTween, Skeleton, arch, fk, from_sixd, key_phase, l2p_sd,
-    mirror, quat_to_mat, rot_y, sample_keys, sixd, slerp, supervised)
+    mirror, quat_to_mat, rot_y, sample_keys, sixd, slerp, supervised, upsample2)
 from deeprep_train.motion.residual_adv import quat_mul
 
 OUT = os.path.join(CACHE, "cond")
@@ -303,9 +305,11 @@ class CondTween(nn.Module):
     """[B, 3 + 6K + 4 + extra, N] -> residual [B, 3 + 6K, N]: the whole-pose
     network's blocks with a wider input convolution (and skip)."""
 
-    def __init__(self, K, J, width, dilations, stride=1, skip=False, context_base=False, coarse_rates=False):
+    def __init__(self, K, J, width, dilations, stride=1, skip=False, context_base=False, coarse_rates=False,
+                 dna=False):
         super().__init__()
         self.core = ResidualTween(K, width, dilations, stride, skip)
+        self.dna = False
         self.K, self.J = K, J
         # trained on the hierarchy's coarse rates too (group_phase's rate; issue 47 item 3)
         self.coarse_rates = bool(coarse_rates)
@@ -322,13 +326,49 @@ class CondTween(nn.Module):
             self.core.skip = nn.Conv1d(cin, width, 1)
             nn.init.zeros_(self.core.skip.weight)
             nn.init.zeros_(self.core.skip.bias)
+        if dna:
+            self.add_dna()
 
-    def forward(self, x):
-        return self.core(x)
+    def add_dna(self):
+        """Motion DNA (thesis Sec. 5.2.5): a shared MLP on each representative
+        pose (its joints relative to the root, the root's rotation removed,
+        / SCALE: the thesis' Lambda), average-pooled, then a linear layer;
+        the code w is added to every frame's features after the input
+        convolution (the thesis concatenates it to the bottleneck's; this
+        network has no bottleneck, and a sum after a convolution is that
+        convolution of the concatenation). The linear layer starts at zero,
+        so adding DNA to a trained network changes nothing until it learns."""
+        self.dna = True
+        width = self.core.inp.out_channels
+        self.dna_enc = nn.Sequential(nn.Linear(3 * self.J, 256), nn.LeakyReLU(0.2), nn.Linear(256, 256),
+                                     nn.LeakyReLU(0.2))
+        self.dna_out = nn.Linear(256, width)
+        nn.init.zeros_(self.dna_out.weight)
+        nn.init.zeros_(self.dna_out.bias)
+
+    def dna_code(self, dna, dna_w):
+        """dna [B, k, 3J] poses, dna_w [B, k] 1 for a pose given, 0 for
+        padding: the code [B, width], zero where no pose is given."""
+        # 2-D through the linear layers, so the export keeps their weights' names (Gemm)
+        B, k, p = dna.shape
+        e = self.dna_enc(dna.reshape(B * k, p)).reshape(B, k, -1) * dna_w[..., None]
+        n = dna_w.sum(1, keepdim=True)
+        return self.dna_out(e.sum(1) / n.clamp(min=1.0)) * n.clamp(max=1.0)
+
+    def forward(self, x, dna=None, dna_w=None):
+        if not self.dna or dna is None:
+            return self.core(x)
+        c = self.core
+        h = c.blocks(c.inp(x) + self.dna_code(dna, dna_w)[..., None])
+        if c.stride == 2:
+            h = upsample2(h, x.shape[-1])
+        if c.skip is not None:
+            h = h + c.skip(x)
+        return c.out(F.leaky_relu(h, 0.2))
 
     def arch(self):
         return {**self.core.arch(), "J": self.J, "Z": Z, "context_base": int(self.context_base),
-                "coarse_rates": int(self.coarse_rates)}
+                "coarse_rates": int(self.coarse_rates), "dna": int(self.dna)}
 
 
 def widen(state, cin):
@@ -349,7 +389,7 @@ def widen(state, cin):
 def build(s):
     a = arch(s)
     return CondTween(a["K"], int(s["J"]), a["width"], a["dilations"], a["stride"], a["skip"],
-                     bool(s.get("context_base", 0)), bool(s.get("coarse_rates", 0)))
+                     bool(s.get("context_base", 0)), bool(s.get("coarse_rates", 0)), bool(s.get("dna", 0)))
 
 
 def load_ema(path, device="cpu"):
@@ -359,10 +399,10 @@ def load_ema(path, device="cpu"):
     return net.to(device).eval(), s
 
 
-def apply(net, x, gate_root, gate_rot, base_root, base_rot):
+def apply(net, x, gate_root, gate_rot, base_root, base_rot, dna=None, dna_w=None):
     """The output motion: root [B,N,3], rotations [B,N,K,3,3]."""
     B, N, K = base_rot.shape[:3]
-    res = net(x).transpose(1, 2)
+    res = net(x, dna, dna_w).transpose(1, 2)
     root = base_root + res[..., :3] * SCALE * gate_root.unsqueeze(-1)
     r6 = sixd(base_rot).reshape(B, N, K, 6) + res[..., 3:].reshape(B, N, K, 6) * gate_rot[..., None, None]
     return root, from_sixd(r6)
@@ -391,12 +431,16 @@ def spread(d, skel):
 
 
 def make_batch(clips, skel, prior, b, n, rng, do_mirror, device, fill_share=0.0, context_base=False,
-               extra_share=0.0, fill_gaps=(10, 180), fill_law="log", rate=1):
+               extra_share=0.0, fill_gaps=(10, 180), fill_law="log", rate=1, dna_share=0.0):
     """b windows of n frames; `extra_share` of them from cmu-extra's locomotion clips
     (segments named extra/...) where one is at least n frames long. rate > 1:
     every window is n frames taken `rate` apart from n * rate frames (what
-    the hierarchy's coarse pass sees), keys as users give them, no fill layouts."""
+    the hierarchy's coarse pass sees), keys as users give them, no fill layouts.
+    dna_share of the windows that are not fill layouts get Motion DNA: their
+    own representative frames (dna_frames); the batch then ends with their
+    indices [B, k] and weights [B, k] (1 a frame, 0 padding)."""
     xs, gr_, gq_, br, bq, tr, tq, offs = [], [], [], [], [], [], [], []
+    dna_idx = []
     extra = np.array([str(name).startswith("extra/") for name in clips.names])
     for _ in range(b):
         root, quat = clips.window(n * rate, rng, extra if rng.random() < extra_share else None)
@@ -406,6 +450,7 @@ def make_batch(clips, skel, prior, b, n, rng, do_mirror, device, fill_share=0.0,
             root, quat = mirror(root, quat, skel)
             off = skel.mirror_offsets
         root, quat = turn(root, quat, rng.uniform(-math.pi, math.pi))
+        picked = []
         if rate == 1 and rng.random() < fill_share:
             keys = fill_keys(n, rng, fill_gaps, fill_law)
             kinds = [P] * len(keys)
@@ -413,12 +458,66 @@ def make_batch(clips, skel, prior, b, n, rng, do_mirror, device, fill_share=0.0,
             # half the windows with intervals of at least 0.5 s (a root path's keys)
             keys = sample_keys(n, rng, lo=30 if rng.random() < 0.5 else 15)
             kinds = sample_kinds(keys, rng)
+            if dna_share and rng.random() < dna_share:
+                picked = dna_frames(quat, keys)
+        dna_idx.append(picked)
         noise = torch.from_numpy(rng.standard_normal(Z)).float()
         f = features(skel, prior, root, quat, keys, kinds, noise, off, context_base, rate)
         for lst, v in zip((xs, gr_, gq_, br, bq, tr, tq), f):
             lst.append(v)
         offs.append(off)
-    return [torch.stack(v).to(device) for v in (xs, gr_, gq_, br, bq, tr, tq, offs)]
+    out = [torch.stack(v).to(device) for v in (xs, gr_, gq_, br, bq, tr, tq, offs)]
+    if dna_share:
+        k = max(1, max(len(v) for v in dna_idx))
+        idx = torch.zeros(b, k, dtype=torch.long)
+        wts = torch.zeros(b, k)
+        for i, v in enumerate(dna_idx):
+            idx[i, :len(v)] = torch.tensor(v, dtype=torch.long)
+            wts[i, :len(v)] = 1.0
+        out += [idx.to(device), wts.to(device)]
+    return out
+
+
+def dna_frames(quat, keys):
+    """A window's Motion DNA frames as training draws them: motion.dna's
+    representative frames (largest local-rotation change, 30 frames apart,
+    one per 180 frames) among the frames that are not keys."""
+    feat = quat_to_mat(quat[:, 1:]).reshape(len(quat), -1).numpy()
+    return dna_rule.representative_frames(feat, dna_rule.dna_count(len(quat)), exclude=keys)
+
+
+def lam(pos, rot):
+    """The thesis' Lambda: joints relative to the root with the root's
+    rotation removed. pos [..., J, 3], rot [..., K, 3, 3] -> [..., J, 3]."""
+    return torch.einsum("...ji,...kj->...ki", rot[..., 0, :, :], pos - pos[..., :1, :])
+
+
+def dna_losses(out_lam, reps, wts, x, longest=180):
+    """Eqs. 5.11 and 5.12 (squared distances, mean over joints): every
+    representative pose near some output frame; in every key interval of at
+    least 3 s, floor(length / 3 s) output frames near one of them. out_lam
+    [B, N, J, 3], reps [B, k, J, 3], wts [B, k]; x the input (its all-keys
+    phase gives the intervals)."""
+    d = ((out_lam[:, :, None] - reps[:, None]) ** 2).sum(-1).mean(-1)   # [B, N, k]
+    has = wts.sum(1) > 0
+    l1 = (d.min(1).values * wts).sum() / wts.sum().clamp(min=1.0)
+    K = (x.shape[1] - 3 - 4 - extra_channels((out_lam.shape[2]))) // 6
+    i = 3 + 6 * K + 5  # all keys' phase: s, since / PHASE_FRAMES, to / PHASE_FRAMES, gate
+    span = ((x[:, i + 1] + x[:, i + 2]) * PHASE_FRAMES).round()   # in 60 fps frames
+    near = d.masked_fill(wts[:, None] == 0, float("inf")).min(2).values   # [B, N]
+    picked = []
+    for b in torch.nonzero(has).flatten().tolist():
+        long = span[b] >= longest
+        if not bool(long.any()):
+            continue
+        # key frames: no frame since the previous key or none to the next (the last key)
+        edges = torch.nonzero((x[b, i + 1] == 0) | (x[b, i + 2] == 0)).flatten().tolist()
+        for a, e in zip(edges[:-1], edges[1:]):
+            if e - a >= longest:
+                m = (e - a) // longest
+                picked.append(near[b, a + 1:e].topk(m, largest=False).values)
+    l2 = torch.cat(picked).mean() if picked else out_lam.sum() * 0
+    return l1, l2
 
 
 def short_gap_l1(x, pos, gpos, K, longest=45, ref=30.0, cap=4.0):
@@ -450,13 +549,23 @@ def losses(net, skel, batch, w, adv=None, tau=0.1):
     distance, capped at `tau`, is rewarded. The supervised terms see the
     first draw; the discriminator sees both. Private entries (leading _)
     carry the positions the discriminator's own step needs."""
-    x, g_root, g_rot, base_root, base_rot, gt_root, gt_rot, offs = batch
-    root, rot = apply(net, x, g_root, g_rot, base_root, base_rot)
-    pos = fk(skel, root, rot, offs) / SCALE
+    x, g_root, g_rot, base_root, base_rot, gt_root, gt_rot, offs = batch[:8]
     gpos = fk(skel, gt_root, gt_rot, offs) / SCALE
+    dna = dna_w = reps = None
+    if len(batch) > 8 and net.dna:
+        # Motion DNA: the window's own representative poses (Lambda / SCALE)
+        idx, dna_w = batch[8:]
+        B, k = idx.shape
+        J = gpos.shape[2]
+        reps = torch.gather(lam(gpos, gt_rot), 1, idx[:, :, None, None].expand(-1, -1, J, 3))
+        dna = reps.reshape(B, k, 3 * J)
+    root, rot = apply(net, x, g_root, g_rot, base_root, base_rot, dna, dna_w)
+    pos = fk(skel, root, rot, offs) / SCALE
     out = supervised(skel, root, rot, pos, gt_root, gt_rot, gpos, w)
     if w.get("short"):
         out["short"] = short_gap_l1(x, pos, gpos, rot.shape[2])
+    if dna is not None and w.get("dna1"):
+        out["dna1"], out["dna2"] = dna_losses(lam(pos, rot), reps, dna_w, x)
     rel = pos - pos[:, :, :1]
     fakes = [rel]
     if w.get("div"):
@@ -464,7 +573,7 @@ def losses(net, skel, batch, w, adv=None, tau=0.1):
         z2 = torch.randn(B, Z, 1, device=x.device)
         x2 = x.clone()
         x2[:, -Z:] = z2.expand(-1, -1, N)
-        root2, rot2 = apply(net, x2, g_root, g_rot, base_root, base_rot)
+        root2, rot2 = apply(net, x2, g_root, g_rot, base_root, base_rot, dna, dna_w)
         pos2 = fk(skel, root2, rot2, offs) / SCALE
         rel2 = pos2 - pos2[:, :, :1]
         d_out = (rel - rel2).norm(dim=-1).mean((1, 2))
@@ -529,17 +638,32 @@ def train(args):
         print(f"coarse-rate windows from now on (rates {args.coarse_rates}): the manifest will say coarse_rates",
               flush=True)
         net.coarse_rates = ema.coarse_rates = True
+    if args.dna_share > 0 and not net.dna:
+        net.add_dna()
+        ema.add_dna()
+        ema.dna_enc.load_state_dict(net.dna_enc.state_dict())
+        print("Motion DNA input from now on (its code at zero): the manifest will say dna", flush=True)
     net.to(dev)
     ema.to(dev)
-    opt = torch.optim.Adam(net.parameters(), lr=args.lr)
-    if opt_state is not None:
+    # the DNA encoder's parameters in a group of their own, so a checkpoint
+    # from before it keeps its optimizer state
+    base = [p for n, p in net.named_parameters() if not n.startswith("dna_")]
+    extra = [p for n, p in net.named_parameters() if n.startswith("dna_")]
+    opt = torch.optim.Adam(base, lr=args.lr)
+    if extra and opt_state is not None and len(opt_state["param_groups"]) == 2:
+        opt.add_param_group({"params": extra})
         opt.load_state_dict(opt_state)
+    else:
+        if opt_state is not None:
+            opt.load_state_dict(opt_state)
+        if extra:
+            opt.add_param_group({"params": extra})
     for g in opt.param_groups:
         g["lr"] = args.lr
     print(f"parameters: {sum(p.numel() for p in net.parameters()):,}", flush=True)
     w = {"pos": 1.0, "rot": 0.5, "root": 1.0, "vel": 1.0, "speed": args.speed_weight, "foot": args.foot_weight,
          "l2p": args.l2p_weight, "spectral": args.spectral_weight, "gan": args.gan_weight, "div": args.div_weight,
-         "npss": args.npss_weight, "short": args.short_gap_weight}
+         "npss": args.npss_weight, "short": args.short_gap_weight, "dna1": args.dna_weight, "dna2": args.dna_weight}
     adv = None
     if args.gan_weight > 0:
         from deeprep_train.motion.residual_adv import Adversary
@@ -569,7 +693,7 @@ def train(args):
         n = args.short_frames if short else args.coarse_frames if coarse else args.frames
         batch = make_batch(clips, skel, prior, max(1, args.batch * args.frames // n), n, rng, args.mirror, dev,
                            args.fill_share, net.context_base, args.extra_share if short else 0.0,
-                           args.fill_gaps, args.fill_law, rate)
+                           args.fill_gaps, args.fill_law, rate, args.dna_share)
         out = losses(net, skel, batch, w, adv, args.div_tau)
         opt.zero_grad()
         out["total"].backward()
@@ -690,7 +814,8 @@ def portable(args):
     to = args.to or PORTABLE
     os.makedirs(os.path.dirname(os.path.abspath(to)), exist_ok=True)
     torch.save({**half, "step": s["step"], "prior": s["prior"], **arch(s), "J": s["J"], "Z": s["Z"],
-                "context_base": int(s.get("context_base", 0)), "coarse_rates": int(s.get("coarse_rates", 0))}, to)
+                "context_base": int(s.get("context_base", 0)), "coarse_rates": int(s.get("coarse_rates", 0)),
+                "dna": int(s.get("dna", 0))}, to)
     print(f"wrote {to} (step {s['step']}, {os.path.getsize(to) / 1e6:.1f} MB)")
 
 
@@ -708,17 +833,18 @@ def recover(args):
     t = man["training"]
     s = {"width": t["width"], "K": t["K"], "dilations": t["dilations"], "stride": t["stride"], "skip": t["skip"],
          "J": t["J"], "Z": t["Z"], "context_base": int(man.get("context_base") == "hermite"),
-         "coarse_rates": int(bool(man.get("coarse_rates", False)))}
+         "coarse_rates": int(bool(man.get("coarse_rates", False))), "dna": int(bool(man.get("dna", False)))}
     net = build(s)
     arrays = initializer_arrays(onnx.load(os.path.join(ONNX_DIR, "tween_cond.onnx")))
     state = {k: torch.from_numpy(np.array(arrays[k], dtype=np.float32)) for k in net.state_dict()}
     net.load_state_dict(state)
     fix = json.load(open(os.path.join(ONNX_DIR, "fixtures", "tween_cond.json")))
-    x = np.array(fix["inputs"]["x"]["data"], dtype=np.float32).reshape(fix["inputs"]["x"]["shape"])
+    feeds = {k: np.array(v["data"], dtype=np.float32).reshape(v["shape"]) for k, v in fix["inputs"].items()}
+    order = fix.get("input_order", list(feeds))
     with torch.no_grad():
-        mine = net(torch.from_numpy(x)).numpy()
+        mine = net(*[torch.from_numpy(feeds[k]) for k in order]).numpy()
     want = ort.InferenceSession(os.path.join(ONNX_DIR, "tween_cond.onnx"),
-                                providers=["CPUExecutionProvider"]).run(None, {"x": x})[0]
+                                providers=["CPUExecutionProvider"]).run(None, feeds)[0]
     # relative to the output's size (float32 sums in another order: about 1e-5)
     off = float(np.abs(mine - want).max() / np.abs(want).max())
     if off > 1e-4:
@@ -799,12 +925,21 @@ def export(args):
     n0, keys0, kinds0 = FIXTURE_CASES[2][:3]
     f = features(skel, prior, *window(2, n0), keys0, kinds0, noise, skel.offsets, net.context_base)
     x = f[0].unsqueeze(0)
-    torch.onnx.export(net, (x,), path, input_names=["x"], output_names=["residual"], opset_version=17,
-                      dynamic_axes={"x": {2: "frames"}, "residual": {2: "frames"}}, dynamo=False)
+    if net.dna:
+        # the fixture's DNA: the window's own representative poses
+        idx = dna_frames(window(2, n0)[1], keys0) or [n0 // 2]
+        gpos = fk(skel, f[5][None], f[6][None], skel.offsets[None])[0] / SCALE
+        dna = lam(gpos, f[6])[idx].reshape(1, len(idx), -1)
+        feeds = {"x": x, "dna": dna, "dna_w": torch.ones(1, len(idx))}
+        axes = {"x": {2: "frames"}, "dna": {1: "poses"}, "dna_w": {1: "poses"}, "residual": {2: "frames"}}
+    else:
+        feeds, axes = {"x": x}, {"x": {2: "frames"}, "residual": {2: "frames"}}
+    torch.onnx.export(net, tuple(feeds.values()), path, input_names=list(feeds), output_names=["residual"],
+                      opset_version=17, dynamic_axes=axes, dynamo=False)
     with torch.no_grad():
-        ref = net(x).numpy()
+        ref = net(*feeds.values()).numpy()
     sess = ort.InferenceSession(path, providers=["CPUExecutionProvider"])
-    parity = fixture(name, sess, {"x": x.numpy()}, ref)
+    parity = fixture(name, sess, {k: v.numpy() for k, v in feeds.items()}, ref)
     prior_m = quat_to_mat(prior)
     if args.fill_from and not 1 <= args.fill_from <= args.fill_up_to:
         raise SystemExit("--fill-from needs --fill-up-to and 1 <= FROM <= UP_TO")
@@ -824,7 +959,12 @@ def export(args):
                                 "s, since / 60, to / 60, gate), whole-pose flag (1), all keys' phase (4), 2-D-or-pose "
                                 "flag (1), their phase (4), each joint's root-relative x, y / scale lerped between them "
                                 "(2J), noise (Z, zero at inference); in the first key's frame (motion/cond.py's "
-                                "docstring)"}],
+                                "docstring)"}] + ([
+                       {"name": "dna", "shape": [1, "poses", 3 * J],
+                        "channels": "Motion DNA poses: each joint relative to the root, the root's rotation removed, "
+                                    "/ scale (a zero pose when none is given)"},
+                       {"name": "dna_w", "shape": [1, "poses"], "channels": "1 per DNA pose given, 0 for none"}]
+                       if net.dna else []),
         "outputs": [{"name": "residual", "shape": [1, 3 + 6 * K, "frames"]}],
         "scale": SCALE,
         "gate_frames": GATE_FRAMES,
@@ -845,6 +985,7 @@ def export(args):
         "default_for_root_keys": bool(args.default_for_root_keys),
         "context_base": "hermite" if net.context_base else "slerp",
         "coarse_rates": net.coarse_rates,
+        "dna": net.dna,
         "captured_joint_speed": captured_speed(skel, clips),
         **fill,
     })
@@ -860,7 +1001,11 @@ def export(args):
         root, quat = window(ci, n, rate)
         f = features(skel, prior, root, quat, keys, kinds, noise, skel.offsets, net.context_base, rate)
         xin, g_root, g_rot, base_root, base_rot = [v.unsqueeze(0) for v in f[:5]]
-        res = torch.from_numpy(sess.run(None, {"x": xin.numpy()})[0])
+        feeds = {"x": xin.numpy()}
+        if net.dna:
+            # without DNA: one zero pose at weight 0 (what the runtime feeds)
+            feeds.update(dna=np.zeros((1, 1, 3 * J), np.float32), dna_w=np.zeros((1, 1), np.float32))
+        res = torch.from_numpy(sess.run(None, feeds)[0])
         # apply() with the exported network's output, then back to the world
         B, N = 1, n
         r_root = base_root + res.transpose(1, 2)[..., :3] * SCALE * g_root.unsqueeze(-1)
@@ -918,6 +1063,11 @@ def main():
                          "short ones weighted up)")
     ap.add_argument("--npss-weight", type=float, default=0.0,
                     help="train: weight of the NPSS term (residual.npss_loss on each window's root-relative positions)")
+    ap.add_argument("--dna-share", type=float, default=0.0,
+                    help="train: share of windows (not fill layouts) given their own representative poses as "
+                         "Motion DNA (adds the DNA input to a network without it)")
+    ap.add_argument("--dna-weight", type=float, default=0.0,
+                    help="train: weight of each DNA loss (eqs. 5.11, 5.12) on those windows")
     ap.add_argument("--gan-weight", type=float, default=0.0,
                     help="the adversarial stage: LSGAN discriminator on root-relative positions (residual_adv)")
     ap.add_argument("--lr-d", type=float, default=1e-4)

@@ -18,20 +18,22 @@ def dna_count(frames):
     return max(1, frames // FRAMES_PER_DNA)
 
 
-def representative_frames(features, count, spacing=MIN_SPACING):
+def representative_frames(features, count, spacing=MIN_SPACING, exclude=()):
     """The `count` frames of largest change of `features` ([N, D], one row
     per frame) between their two neighbours, at least `spacing` apart, in
     frame order (fewer when the clip is too short). Ties go to the earlier
-    frame, as in the crate."""
+    frame, as in the crate. Frames in `exclude` are never picked (training
+    leaves out a window's keys)."""
     x = np.asarray(features, dtype=np.float64).reshape(len(features), -1)
     change = np.zeros(len(x))
     if len(x) > 2:
         change[1:-1] = np.linalg.norm(x[2:] - x[:-2], axis=1)
     picked = []
+    skip = set(int(v) for v in exclude)
     for i in np.argsort(-change, kind="stable"):
         if len(picked) == count:
             break
-        if all(abs(int(i) - j) >= spacing for j in picked):
+        if int(i) not in skip and all(abs(int(i) - j) >= spacing for j in picked):
             picked.append(int(i))
     return sorted(picked)
 

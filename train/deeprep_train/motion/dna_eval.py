@@ -64,10 +64,10 @@ def dna_errors(out, reps, keys):
     return e1, (float(np.mean(picked)) if picked else None)
 
 
-def measure(variation):
+def measure(variation, method="generator", split="val", every=1):
     rows, div, spread = [], [], []
     with tempfile.TemporaryDirectory() as tmp:
-        for label, clip, n in validation_clips(tmp):
+        for label, clip, n in validation_clips(tmp, split=split, every=every):
             gt = read_bvh(clip)
             keys = random_keys(n, 0)
             reps_idx = rep_frames(gt, max(1, keys[-1] // 180))
@@ -77,7 +77,7 @@ def measure(variation):
             def run(extra, tag):
                 out = os.path.join(tmp, f"{tag}.bvh")
                 r = subprocess.run([cli(), "inbetween", "--from-bvh", clip, "--keys", ",".join(map(str, keys)),
-                                    "-o", out, "--method", "generator"] + variation + extra, capture_output=True, text=True, cwd=ROOT)
+                                    "-o", out, "--method", method] + variation + extra, capture_output=True, text=True, cwd=ROOT)
                 if r.returncode:
                     sys.exit(f"{clip}: {r.stderr}")
                 return local_poses(read_bvh(out))
@@ -96,13 +96,22 @@ def measure(variation):
 
 
 def main():
+    import argparse
+    ap = argparse.ArgumentParser(description="Motion DNA measured (Sec. 5.3.7)")
+    ap.add_argument("--method", default="generator", help="the CLI's --method (generator, cond)")
+    ap.add_argument("--split", choices=["val", "train"], default="val")
+    ap.add_argument("--every", type=int, default=1, help="every N-th clip of the split")
+    ap.add_argument("--json", default=os.path.join(ROOT, "docs", "dna_eval.json"))
+    args = ap.parse_args()
     if not os.path.isdir(DATA):
         sys.exit(f"SKIP: {DATA} is absent")
-    res = {"thesis_cm": {"dna_error_1": 8.4, "dna_error_2": 6.5}}
-    for label, variation in (("default_variation", []), ("variation_1", ["--variation", "1"])):
-        res[label] = summarize(*measure(variation))
+    res = {"thesis_cm": {"dna_error_1": 8.4, "dna_error_2": 6.5}, "method": args.method, "split": args.split,
+           "every": args.every}
+    runs = (("default_variation", []), ("variation_1", ["--variation", "1"]))
+    for label, variation in runs[:1] if args.method == "cond" else runs:  # cond's default variation is 1
+        res[label] = summarize(*measure(variation, args.method, args.split, args.every))
         print(label, json.dumps({k: v for k, v in res[label].items() if k != "clips"}), flush=True)
-    with open(os.path.join(ROOT, "docs", "dna_eval.json"), "w") as f:
+    with open(args.json, "w") as f:
         json.dump(res, f, indent=1)
 
 

@@ -26,6 +26,7 @@ def fixture(name, sess, feeds, torch_out):
     write_json(os.path.join(ONNX_DIR, "fixtures", f"{name}.json"), {
         "model": f"{name}.onnx",
         "inputs": {k: {"shape": list(v.shape), "data": [float(x) for x in v.ravel()]} for k, v in feeds.items()},
+        "input_order": list(feeds),
         # single-input form read by tests/parity for the first input
         "input_name": list(feeds)[0], "input_shape": list(list(feeds.values())[0].shape),
         "input": [float(x) for x in list(feeds.values())[0].ravel()],

@@ -26,12 +26,17 @@ from deeprep_train.motion.eval import ROOT, cli
 PAIR = re.compile(r"root ([0-9.]+), joints ([0-9.]+)")
 
 
-def validation_clips(tmp, max_frames=2048):
+def validation_clips(tmp, max_frames=2048, split="val", every=1):
     """(class/name, path of the clip at 60 fps in tmp, frames used: at most
-    max_frames) for every validation take."""
+    max_frames) for every validation take (split "train": every `every`-th
+    clip of the training takes instead)."""
+    i = 0
     for cls in sorted(TRUE_FPS):
         for name in sorted(os.listdir(os.path.join(DATA, cls))):
-            if take_of(cls, int(name[:-4])) in VALIDATION:
+            if (take_of(cls, int(name[:-4])) in VALIDATION) == (split == "val"):
+                i += 1
+                if (i - 1) % every:
+                    continue
                 clip = os.path.join(tmp, f"{cls}_{name}")
                 n = resample(os.path.join(DATA, cls, name), clip, TRUE_FPS[cls] // 60)
                 yield f"{cls}/{name}", clip, min(n, max_frames)
