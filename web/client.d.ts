@@ -130,6 +130,9 @@ export class DeeprepClient {
   readonly hasResidual: boolean;
   /** Whether method `'cond'` (the conditional network for whole-pose, root-only and 2-D keys) is available. */
   readonly hasCond: boolean;
+  /** Whether the conditional network takes Motion DNA (`dna` with method `'cond'`; its manifest's `dna`):
+   *  when false, DNA with method `'cond'` is an error and method `'generator'` takes it. */
+  readonly condDna: boolean;
   /** The variation a request without one gets: the model manifest's (chosen on training takes). */
   readonly defaultVariation?: number;
   readonly modelError?: string;

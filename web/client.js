@@ -111,6 +111,7 @@ export class DeeprepClient {
     c.hasModel = info.hasModel;
     c.hasResidual = info.hasResidual; // method 'residual' (the supervised residual network) is available
     c.hasCond = info.hasCond; // method 'cond' (the conditional network: whole-pose, root-only, 2-D keys) is available
+    c.condDna = info.condDna === true; // ... and it takes Motion DNA (`dna` with method 'cond')
     c.defaultVariation = info.defaultVariation;
     c.modelError = info.modelError;
     c.wasm = info.wasm; // the wasm build the worker runs: 'relaxed-simd' or 'simd128'

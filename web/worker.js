@@ -53,6 +53,8 @@ let condManifest = null;
 // maxGap() / for root paths (motion::plan)
 let condForLongGaps = false;
 let condForRootKeys = false;
+// whether it takes Motion DNA (its manifest's `dna`)
+let condDna = false;
 
 /** Whether the planner may run the conditional network for a `model`
  * request, so that it is loaded first: a gap over maxGap() frames when its
@@ -172,6 +174,7 @@ async function handleInit(msg) {
     // else on the first request that names method 'cond'.
     if (msg.models?.cond) {
       model.setCond(new Uint8Array(msg.models.cond), msg.models.condManifest);
+      try { condDna = JSON.parse(msg.models.condManifest)?.dna === true; } catch { /* setCond checked it */ }
     } else {
       condManifest = await fetchText(urls.condManifest).catch(() => null);
       let isDefault = false;
@@ -180,6 +183,7 @@ async function handleInit(msg) {
         isDefault = m?.default_for_partial_keys === true;
         condForLongGaps = m?.default_for_long_gaps === true;
         condForRootKeys = m?.default_for_root_keys === true;
+        condDna = m?.dna === true;
       } catch { /* no manifest */ }
       if (isDefault) model.setCond(await fetchBytes(urls.cond), condManifest);
     }
@@ -198,7 +202,7 @@ async function handleInit(msg) {
     skel.free();
     postMessage({ type: 'result', id: msg.id, skeletonBvh: model.skeletonBvh, skeleton, hasModel: true,
                   hasResidual: model.hasResidual || residualManifest !== null,
-                  hasCond: model.hasCond || condManifest !== null,
+                  hasCond: model.hasCond || condManifest !== null, condDna,
                   defaultVariation: model.defaultVariation, wasm: wasmBuild });
     warmWhenIdle(WARM_UP_ROUNDS.whenIdle);
   } catch (e) {

@@ -37,8 +37,12 @@ function request(keys, length, method, dna) {
     ...(state.variationTouched ? { variation: Number($('variation').value) } : {}) };
   const asRequest = (k) => (k.xy ? { frame: k.frame, xy: k.xy, root: k.root }
     : k.root ? { frame: k.frame, root: k.root } : { frame: k.frame, channels: k.channels });
-  // the conditional network: the request form, the page's seed as its noise draw, no DNA
-  if (method === 'cond') return { ...common, keys: keys.map(asRequest), seed: Number($('seed').value) || 0 };
+  // the conditional network: the request form, the page's seed as its noise draw, and DNA
+  // rows when the network takes them (its manifest's dna)
+  if (method === 'cond') {
+    return { ...common, keys: keys.map(asRequest), seed: Number($('seed').value) || 0,
+      ...(state.client.condDna && dna.length ? { dna: chunk(dna, state.skeleton.channels) } : {}) };
+  }
   return keys.some((k) => k.root || k.xy)
     // keys of every kind in the request form (motion::keys), DNA as rows
     ? { ...common, keys: keys.map(asRequest), dna: chunk(dna, state.skeleton.channels) }
@@ -57,10 +61,12 @@ export async function compareSeeds() {
   const seed = Number($('seed').value) + 1;
   try {
     const keys = state.keys.filter((k) => k.frame < state.result.frames);
-    // the conditional network draws its noise from the seed; the generator its Motion DNA
+    // the conditional network draws its noise from the seed (and its Motion DNA when it
+    // takes DNA); the generator its Motion DNA
+    const dnaOf = (s) => (m === 'cond' && !state.client.condDna ? [] : dnaChannels(s, { fallbackToPool: true }));
     const run = (s) => state.client.synthesize({
-      ...(m === 'cond' ? { ...request(keys, state.result.frames, 'cond', []), seed: s }
-        : request(keys, state.result.frames, 'model', dnaChannels(s, { fallbackToPool: true }))), bvh: false });
+      ...(m === 'cond' ? { ...request(keys, state.result.frames, 'cond', dnaOf(s)), seed: s }
+        : request(keys, state.result.frames, 'model', dnaOf(s))), bvh: false });
     const [first, r] = [await run(seed - 1), await run(seed)];
     const a = first.positions, b = r.positions;
     let d = 0;
