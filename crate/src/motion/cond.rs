@@ -661,19 +661,10 @@ mod model {
                 };
             }
             let (flat, w) = match dna {
-                Some(d) => {
-                    if d.is_empty() || d.iter().any(|f| f.len() != p) {
-                        return Err(Error::Shape {
-                            what: "Motion DNA".into(),
-                            expected: format!("one or more poses of {p} numbers"),
-                            found: format!("{} poses", d.len()),
-                        });
-                    }
-                    let s = self.scale as f32;
-                    let flat: Vec<f32> = d.iter().flatten().map(|v| v / s).collect();
-                    crate::error::check_finite("Motion DNA", &flat)?;
-                    (flat, vec![1.0; d.len()])
-                }
+                Some(d) => (
+                    crate::motion::dna_input(d, p, self.scale as f32)?,
+                    vec![1.0; d.len()],
+                ),
                 None => (vec![0.0; p], vec![0.0]),
             };
             let k = w.len();

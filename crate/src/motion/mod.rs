@@ -383,6 +383,22 @@ pub fn dna_pose(k: &Keyframe) -> Vec<f32> {
     out
 }
 
+/// Motion DNA poses ([`dna_pose`] form, `p` numbers each) as one flat
+/// network input divided by `scale`: one or more poses of the right size,
+/// every number finite, or an error that says which.
+pub fn dna_input(dna: &[Vec<f32>], p: usize, scale: f32) -> Result<Vec<f32>> {
+    if dna.is_empty() || dna.iter().any(|f| f.len() != p) {
+        return Err(Error::Shape {
+            what: "Motion DNA".into(),
+            expected: format!("one or more poses of {p} numbers"),
+            found: format!("{} poses", dna.len()),
+        });
+    }
+    let flat: Vec<f32> = dna.iter().flatten().map(|v| v / scale).collect();
+    crate::error::check_finite("Motion DNA", &flat)?;
+    Ok(flat)
+}
+
 /// Checks a variation by [`crate::error::check_option`]'s rule: in [0, 2]
 /// (1: the networks as trained, 0: plain interpolation).
 pub fn check_variation(variation: f32) -> Result<()> {

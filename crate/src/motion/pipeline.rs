@@ -338,16 +338,7 @@ impl TweenModels {
         let p = 3 * self.joints();
         let s = self.norm.scale;
         if let Some(d) = &req.dna {
-            if d.is_empty() || d.iter().any(|f| f.len() != p) {
-                return Err(Error::Shape {
-                    what: "Motion DNA".into(),
-                    expected: format!("one or more poses of {p} numbers"),
-                    found: format!("{} poses", d.len()),
-                });
-            }
-            let flat: Vec<f32> = d.iter().flatten().map(|v| v / s).collect();
-            crate::error::check_finite("Motion DNA", &flat)?;
-            return Ok(flat);
+            return super::dna_input(d, p, s);
         }
         // The whole-pose keys, without root rotation, serve as DNA.
         let mut flat: Vec<f32> = req
