@@ -22,6 +22,10 @@ t + 1 s, the same keys' clip).
 
   train/.venv/bin/python -m deeprep_train.motion.dna_eval      -> docs/dna_eval.json
 
+`--key-kind root|xy` gives the keys as root positions or 2-D joints
+instead of whole poses (the DNA stays whole poses): where the keys leave
+the pose open, which is where a style input matters to a user.
+
 Runs at the model's default variation and at 1 (the networks as trained:
 the default keeps a quarter of their departure from interpolation, which
 also dilutes whatever DNA does).
@@ -64,7 +68,7 @@ def dna_errors(out, reps, keys):
     return e1, (float(np.mean(picked)) if picked else None)
 
 
-def measure(variation, method="generator", split="val", every=1):
+def measure(variation, method="generator", split="val", every=1, key_kind="pose"):
     rows, div, spread = [], [], []
     with tempfile.TemporaryDirectory() as tmp:
         for label, clip, n in validation_clips(tmp, split=split, every=every):
@@ -77,7 +81,7 @@ def measure(variation, method="generator", split="val", every=1):
             def run(extra, tag):
                 out = os.path.join(tmp, f"{tag}.bvh")
                 r = subprocess.run([cli(), "inbetween", "--from-bvh", clip, "--keys", ",".join(map(str, keys)),
-                                    "-o", out, "--method", method] + variation + extra, capture_output=True, text=True, cwd=ROOT)
+                                    "-o", out, "--method", method, "--key-kind", key_kind] + variation + extra, capture_output=True, text=True, cwd=ROOT)
                 if r.returncode:
                     sys.exit(f"{clip}: {r.stderr}")
                 return local_poses(read_bvh(out))
@@ -101,15 +105,17 @@ def main():
     ap.add_argument("--method", default="generator", help="the CLI's --method (generator, cond)")
     ap.add_argument("--split", choices=["val", "train"], default="val")
     ap.add_argument("--every", type=int, default=1, help="every N-th clip of the split")
+    ap.add_argument("--key-kind", choices=["pose", "root", "xy"], default="pose",
+                    help="the CLI's --key-kind: what the keys give (the DNA is whole poses either way)")
     ap.add_argument("--json", default=os.path.join(ROOT, "docs", "dna_eval.json"))
     args = ap.parse_args()
     if not os.path.isdir(DATA):
         sys.exit(f"SKIP: {DATA} is absent")
     res = {"thesis_cm": {"dna_error_1": 8.4, "dna_error_2": 6.5}, "method": args.method, "split": args.split,
-           "every": args.every}
+           "every": args.every, "key_kind": args.key_kind}
     runs = (("default_variation", []), ("variation_1", ["--variation", "1"]))
     for label, variation in runs[:1] if args.method == "cond" else runs:  # cond's default variation is 1
-        res[label] = summarize(*measure(variation, args.method, args.split, args.every))
+        res[label] = summarize(*measure(variation, args.method, args.split, args.every, args.key_kind))
         print(label, json.dumps({k: v for k, v in res[label].items() if k != "clips"}), flush=True)
     with open(args.json, "w") as f:
         json.dump(res, f, indent=1)
