@@ -5,7 +5,10 @@
 # result brought back through $OUT. CI never runs this.
 #
 # When a session's device `status` shows a machine:
-#   1. here (CPU), once: the training arrays and the L2P spread
+#   1. here (CPU), once: the training arrays and the L2P spread, cmu-extra's
+#      walks first (EXTRA's --extra-share stops without them)
+#        cargo build --release --bin deeprep
+#        train/.venv/bin/python -m deeprep_train.motion.extra              # train/cache/extra60
 #        train/.venv/bin/python -m deeprep_train.motion.residual prepare   # train/cache/resid60.npz
 #      (cond.py computes the spread from resid60.npz when cache/l2p_sd.npy
 #      is absent; carry that file too where it exists)

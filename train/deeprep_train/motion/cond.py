@@ -638,6 +638,10 @@ def train(args):
         print(f"coarse-rate windows from now on (rates {args.coarse_rates}): the manifest will say coarse_rates",
               flush=True)
         net.coarse_rates = ema.coarse_rates = True
+    if args.extra_share > 0 and not any(str(name).startswith("extra/") for name in clips.names):
+        raise SystemExit(f"--extra-share {args.extra_share}: {args.data} holds no cmu-extra clip (extra/...): "
+                         "run `python -m deeprep_train.motion.extra`, then `python -m deeprep_train.motion.residual "
+                         "prepare`")
     if args.dna_share > 0 and not net.dna:
         net.add_dna()
         ema.add_dna()

@@ -63,6 +63,10 @@ def prepare(path):
             add_clip(store, split, f"{cls}/{name}", (names, parents, offsets, chans, data[::TRUE_FPS[cls] // 60]))
     # cmu-extra's locomotion retargeted onto the model's skeleton (motion.extra)
     from deeprep_train.motion.extra import OUT as EXTRA60, EXTRA_VALIDATION
+    if not os.path.isdir(EXTRA60):
+        print(f"prepare: WARNING {EXTRA60} is absent, so cmu-extra's walks and runs are not in this cache "
+              "(`cond train --extra-share` then stops): run `python -m deeprep_train.motion.extra` "
+              "(needs the CLI built) and prepare again", file=sys.stderr)
     for dirpath, _, files in sorted(os.walk(EXTRA60)):
         for name in sorted(files):
             if not name.endswith(".bvh"):
