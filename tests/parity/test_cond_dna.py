@@ -72,3 +72,32 @@ def test_training_draws_dna_by_the_crates_rule_away_from_the_keys(train_import):
     got = cond.dna_frames(q, free)
     assert len(got) == 2 and not set(got) & set(free)
     assert all(abs(a - b) >= dna.MIN_SPACING for a in got for b in got if a != b)
+
+
+def test_per_frame_dna_weights_pool_what_each_frame_is_given(train_import):
+    """The exported form (dna_w [B, k, N], motion.dna.frame_weights): every
+    pose on every frame is the one code training used; a frame given only
+    pose j gets pose j's code, at the input convolution's frames (stride 2)."""
+    cond = train_import("deeprep_train.motion.cond")
+    for stride in (1, 2):
+        torch.manual_seed(3)
+        net = cond.CondTween(K=3, J=4, width=16, dilations=[1, 2], stride=stride)
+        net.add_dna()
+        for p in net.parameters():
+            torch.nn.init.normal_(p, std=0.1)
+        net.eval()
+        N = 31
+        x = torch.randn(1, net.core.inp.in_channels, N)
+        dna = torch.randn(1, 3, 12)
+        with torch.no_grad():
+            glob = net(x, dna, torch.ones(1, 3))
+            assert torch.allclose(net(x, dna, torch.ones(1, 3, N)), glob, atol=1e-5)
+            # only pose 1 everywhere is the one-pose code
+            w = torch.zeros(1, 3, N)
+            w[:, 1] = 1.0
+            assert torch.allclose(net(x, dna, w), net(x, dna[:, 1:2], torch.ones(1, 1)), atol=1e-5)
+            # no pose on any frame: no code
+            assert torch.allclose(net(x, dna, torch.zeros(1, 3, N)), net(x), atol=1e-5)
+            # per-part weights differ from the one code
+            w = torch.from_numpy(train_import("deeprep_train.motion.dna").frame_weights(3, N, 3))[None]
+            assert not torch.allclose(net(x, dna, w), glob, atol=1e-4)

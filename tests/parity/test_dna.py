@@ -6,6 +6,8 @@ import json
 import os
 import sys
 
+import numpy as np
+
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
@@ -24,6 +26,12 @@ def test_training_dna_frames_match_the_crate(tmp_path, monkeypatch):
     clip = read_bvh(str(path))
     for count, want in enumerate(f["picks"], start=1):
         assert dna.representative_frames_of_clip(clip, count) == want, count
+    # which DNA poses steer each frame of the conditional network's output
+    assert f["dna_window"] == dna.DNA_WINDOW
+    for c in f["frame_weights"]:
+        got = dna.frame_weights(c["poses"], c["frames"], c["radius"])
+        want = np.array(c["weights"], np.float32)
+        assert np.array_equal(got.reshape(-1), want), c
 
 
 def test_spacing_and_ties():

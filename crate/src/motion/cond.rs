@@ -144,9 +144,15 @@ struct Manifest {
     coarse_rates: bool,
     /// Whether it takes Motion DNA (`cond.py --dna-share`): inputs `dna`
     /// ([1, k, 3J], each pose's joints relative to the root with the root's
-    /// rotation removed, / scale) and `dna_w` ([1, k], 1 per pose given).
+    /// rotation removed, / scale) and `dna_w` ([1, k, frames], which poses
+    /// steer each frame: [`crate::motion::dna::frame_weights`]).
     #[serde(default)]
     dna: bool,
+    /// With `dna`: how far each DNA pose steers the output, in a pass'
+    /// frames ([`crate::motion::dna::frame_weights`]; 0: every pose every
+    /// frame, one code).
+    #[serde(default)]
+    dna_window: Option<usize>,
 }
 
 impl Manifest {
@@ -285,6 +291,13 @@ mod model {
         fill_gaps: Option<(usize, usize)>,
         coarse_rates: bool,
         dna: bool,
+        dna_window: usize,
+    }
+
+    /// Motion DNA poses checked and scaled for the network (flat `[k, 3J]`).
+    struct DnaPoses {
+        flat: Vec<f32>,
+        k: usize,
     }
 
     /// Per frame of a group of keys: (s, frames since the previous key / P,
@@ -373,6 +386,16 @@ mod model {
             let default_variation = m.variation.unwrap_or(1.0);
             crate::motion::check_variation(default_variation).map_err(|e| bad(e.to_string()))?;
             let fill_gaps = m.fill_gaps()?;
+            let dna_window =
+                match (m.dna, m.dna_window) {
+                    (false, _) => 0,
+                    (true, Some(w)) => w,
+                    (true, None) => return Err(bad(
+                        "'dna' without 'dna_window' (an export from before per-frame DNA weights: \
+                         export it again with cond.py export)"
+                            .into(),
+                    )),
+                };
             let context_base = match m.context_base.as_deref() {
                 None | Some("slerp") => false,
                 Some("hermite") => true,
@@ -412,6 +435,7 @@ mod model {
                 fill_gaps,
                 coarse_rates: m.coarse_rates,
                 dna: m.dna,
+                dna_window,
             })
         }
 
@@ -554,7 +578,7 @@ mod model {
             dna: Option<&[Vec<f32>]>,
         ) -> Result<(Motion, Vec<usize>)> {
             crate::motion::check_variation(variation)?;
-            let dna = self.dna_input(dna)?;
+            let dna = self.dna_poses(dna)?;
             let dna = dna.as_ref();
             crate::motion::validate_keys(keys, frames, self.template.joints.len())?;
             crate::motion::check_long_gaps(keys)?;
@@ -640,37 +664,57 @@ mod model {
             if !(1..=64).contains(&rate) {
                 return Err(Error::Invalid(format!("rate {rate}: expected 1 to 64")));
             }
-            let dna = self.dna_input(None)?;
-            self.synthesize_flat(keys, frames, variation, seed, rate, dna.as_ref())
+            self.synthesize_flat(keys, frames, variation, seed, rate, None)
         }
 
-        /// The network's DNA inputs (`dna` [1, k, 3J] / scale, `dna_w`
-        /// [1, k]) for the poses given, or one zero pose at weight 0 for
-        /// none; `None` for a network without DNA input (an error when poses
+        /// Motion DNA poses checked and scaled for the network; `None` for
+        /// none given, or a network without DNA input (an error when poses
         /// are given to it).
-        fn dna_input(&self, dna: Option<&[Vec<f32>]>) -> Result<Option<(TensorF32, TensorF32)>> {
+        fn dna_poses(&self, dna: Option<&[Vec<f32>]>) -> Result<Option<DnaPoses>> {
             let p = 3 * self.template.joints.len();
-            if !self.dna {
-                return match dna {
-                    Some(_) => Err(Error::Invalid(
-                        "this conditional network takes no Motion DNA (its manifest does not say dna); \
-                         method generator does"
-                            .into(),
-                    )),
-                    None => Ok(None),
-                };
+            match dna {
+                None => Ok(None),
+                Some(_) if !self.dna => Err(Error::Invalid(
+                    "this conditional network takes no Motion DNA (its manifest does not say dna); \
+                     method generator does"
+                        .into(),
+                )),
+                Some(d) => Ok(Some(DnaPoses {
+                    flat: crate::motion::dna_input(d, p, self.scale as f32)?,
+                    k: d.len(),
+                })),
             }
-            let (flat, w) = match dna {
-                Some(d) => (
-                    crate::motion::dna_input(d, p, self.scale as f32)?,
-                    vec![1.0; d.len()],
-                ),
-                None => (vec![0.0; p], vec![0.0]),
+        }
+
+        /// The network's DNA inputs for a pass of `frames` frames (`dna`
+        /// [1, k, 3J], `dna_w` [1, k, frames] by
+        /// [`crate::motion::dna::frame_weights`] with the manifest's
+        /// `dna_window`), or one zero pose at weight 0 for none; `None` for a
+        /// network without DNA input.
+        fn dna_feeds(
+            &self,
+            dna: Option<&DnaPoses>,
+            frames: usize,
+        ) -> Result<Option<(TensorF32, TensorF32)>> {
+            if !self.dna {
+                return Ok(None);
+            }
+            let p = 3 * self.template.joints.len();
+            let (flat, w, k) = match dna {
+                Some(d) => {
+                    // window 0: every pose on every frame, which the network averages
+                    let w = if self.dna_window == 0 {
+                        vec![1.0; d.k * frames]
+                    } else {
+                        crate::motion::dna::frame_weights(d.k, frames, self.dna_window)
+                    };
+                    (d.flat.clone(), w, d.k)
+                }
+                None => (vec![0.0; p], vec![0.0; frames], 1),
             };
-            let k = w.len();
             Ok(Some((
                 TensorF32::new(flat, vec![1, k, p])?,
-                TensorF32::new(w, vec![1, k])?,
+                TensorF32::new(w, vec![1, k, frames])?,
             )))
         }
 
@@ -682,7 +726,7 @@ mod model {
             variation: f32,
             seed: Option<u64>,
             rate: usize,
-            dna: Option<&(TensorF32, TensorF32)>,
+            dna: Option<&DnaPoses>,
         ) -> Result<Motion> {
             let joints = self.template.joints.len();
             let classes: Vec<KeyClass> = keys
@@ -831,8 +875,8 @@ mod model {
                 }
             }
             let x = TensorF32::new(x, vec![1, cin, n])?;
-            let out = match dna {
-                Some((d, w)) => self.net.run(&[x, d.clone(), w.clone()])?,
+            let out = match self.dna_feeds(dna, n)? {
+                Some((d, w)) => self.net.run(&[x, d, w])?,
                 None => self.net.run(&[x])?,
             };
             let res = out

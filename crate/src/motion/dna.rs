@@ -20,6 +20,56 @@ pub const FRAMES_PER_DNA: usize = 180;
 /// Minimum spacing of representative frames, in frames.
 pub const MIN_SPACING: usize = 30;
 
+/// How far (in a pass' frames) each DNA pose steers the conditional
+/// network's output when its manifest says `dna_window`: half a training
+/// window (480 frames), so each frame pools about the 2-3 poses a training
+/// window held. `train/deeprep_train/motion/dna.py`'s `DNA_WINDOW`.
+pub const DNA_WINDOW: usize = 240;
+
+/// How much each of `poses` DNA poses steers each frame of an output of
+/// `frames` frames: the poses are spread evenly over the output in the
+/// order given (pose `j` at frame `(2j + 1) * frames / (2 * poses)`), each
+/// weighing `1 - distance / radius` on the frames within `radius` of its
+/// place (a tent, so the code changes smoothly from frame to frame),
+/// normalized to sum 1 on every frame; a frame no tent reaches takes its
+/// nearest pose (the earlier on a tie). Row-major `[poses, frames]`: the
+/// conditional network's `dna_w` input. `motion.dna.frame_weights` in the
+/// training code is the same rule (tests/parity/test_dna.py).
+pub fn frame_weights(poses: usize, frames: usize, radius: usize) -> Vec<f32> {
+    let mut w = vec![0.0f32; poses * frames];
+    if poses == 0 {
+        return w;
+    }
+    let at: Vec<f64> = (0..poses)
+        .map(|j| (2 * j + 1) as f64 * frames as f64 / (2 * poses) as f64)
+        .collect();
+    let mut col = vec![0.0f64; poses];
+    for t in 0..frames {
+        let mut nearest = 0;
+        let mut total = 0.0f64;
+        for (j, &a) in at.iter().enumerate() {
+            let d = (t as f64 - a).abs();
+            col[j] = if radius > 0 {
+                (1.0 - d / radius as f64).max(0.0)
+            } else {
+                0.0
+            };
+            total += col[j];
+            if d < (t as f64 - at[nearest]).abs() {
+                nearest = j;
+            }
+        }
+        if total == 0.0 {
+            col[nearest] = 1.0;
+            total = 1.0;
+        }
+        for j in 0..poses {
+            w[j * frames + t] = (col[j] / total) as f32;
+        }
+    }
+    w
+}
+
 /// How many DNA frames training used for a window of `frames` frames.
 pub fn dna_count(frames: usize) -> usize {
     (frames / FRAMES_PER_DNA).max(1)
@@ -195,6 +245,41 @@ mod tests {
             .collect();
         assert!(others.iter().any(|o| *o != a), "{a:?} {others:?}");
         assert!(pick_from_pool(0, 100, 0).is_err());
+    }
+
+    #[test]
+    fn frame_weights_spread_the_poses_in_order() {
+        // 3 poses over 600 frames sit at 100, 300, 500
+        let w = frame_weights(3, 600, 200);
+        let at = |j: usize, t: usize| w[j * 600 + t];
+        // each frame's weights sum to 1
+        for t in 0..600 {
+            let s: f32 = (0..3).map(|j| at(j, t)).sum();
+            assert!((s - 1.0).abs() < 1e-6, "frame {t}: {s}");
+        }
+        // a frame at a pose's place is mostly that pose; halfway, two poses equally
+        assert_eq!((at(0, 0), at(1, 0), at(2, 0)), (1.0, 0.0, 0.0));
+        assert!(at(1, 300) > 0.6 && (at(0, 300) - at(2, 300)).abs() < 1e-6);
+        assert!((at(0, 200) - at(1, 200)).abs() < 1e-6 && at(2, 200) == 0.0);
+        // smooth: no weight moves by more than 1 / radius-ish between frames
+        for j in 0..3 {
+            for t in 1..600 {
+                assert!((at(j, t) - at(j, t - 1)).abs() < 0.02, "pose {j} frame {t}");
+            }
+        }
+        // no tent reaches: the nearest pose only, the earlier on a tie (frame 200)
+        let w = frame_weights(3, 600, 0);
+        for t in 0..600 {
+            assert_eq!(
+                (0..3).map(|j| w[j * 600 + t]).sum::<f32>(),
+                1.0,
+                "frame {t}"
+            );
+        }
+        assert_eq!((w[200], w[600 + 200]), (1.0, 0.0));
+        assert!(frame_weights(1, 50, 10).iter().all(|&v| v == 1.0));
+        assert!(frame_weights(0, 50, 240).is_empty());
+        assert!(frame_weights(2, 0, 240).is_empty());
     }
 
     #[test]

@@ -84,18 +84,34 @@ fn the_conditional_network_reproduces_the_training_code() {
             .iter()
             .map(|k| key(&m, k))
             .collect();
-        // a case with a rate is the hierarchy's coarse pass
+        // a case with a rate is the hierarchy's coarse pass; one with `dna`
+        // gives Motion DNA poses (motion::dna::frame_weights spreads them)
+        // and every `every`-th frame
         let rate = case["rate"].as_u64().unwrap_or(1) as usize;
-        let out = m
-            .synthesize_at_rate(&keys, frames, 1.0, None, rate)
-            .unwrap();
+        let every = case["every"].as_u64().unwrap_or(1) as usize;
+        let out = match case["dna"].as_array() {
+            Some(poses) => {
+                let dna: Vec<Vec<f32>> = poses
+                    .iter()
+                    .map(|p| floats(p).iter().map(|&v| v as f32).collect())
+                    .collect();
+                let (out, critical) = m
+                    .synthesize_dna(&keys, frames, 1.0, None, Some(&dna))
+                    .unwrap();
+                assert!(critical.is_empty(), "case {ci}: one pass");
+                out
+            }
+            None => m
+                .synthesize_at_rate(&keys, frames, 1.0, None, rate)
+                .unwrap(),
+        };
         let (mut d_root, mut d_rot) = (0.0f64, 0.0f64);
-        for t in 0..frames {
-            let want = floats(&case["root"][t]);
+        for (i, t) in (0..frames).step_by(every).enumerate() {
+            let want = floats(&case["root"][i]);
             for (o, w) in out.root[t].iter().zip(&want) {
                 d_root = d_root.max((o - w).abs());
             }
-            let want = floats(&case["sixd"][t]);
+            let want = floats(&case["sixd"][i]);
             for (s, &j) in rotating.iter().enumerate() {
                 for (q, v) in sixd(&out.rotations[t][j]).iter().enumerate() {
                     d_rot = d_rot.max((v - want[6 * s + q]).abs());

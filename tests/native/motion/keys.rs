@@ -231,10 +231,25 @@ fn dna_fixture_shared_with_the_training_code() {
         .map(|count| representative_frames(&poses, count).unwrap())
         .collect();
     assert_eq!(picks[2], [60, 150, 210], "the three bumps");
+    // motion::dna::frame_weights: which DNA poses steer each frame
+    let weights: Vec<serde_json::Value> = [
+        (3, 100, 20),
+        (4, 41, 5),
+        (1, 10, 240),
+        (3, 7, 0),
+        (6, 50, 3),
+    ]
+    .iter()
+    .map(|&(poses, frames, radius)| {
+        serde_json::json!({"poses": poses, "frames": frames, "radius": radius,
+                "weights": deeprep::motion::dna::frame_weights(poses, frames, radius)})
+    })
+    .collect();
     if std::env::var("DEEPREP_WRITE_FIXTURES").is_ok() {
         let doc = serde_json::json!({
-            "what": "motion::dna::representative_frames of `bvh` for count = 1..3 (beyond 3 the picks are on the flat part, near-ties) (tests/native/motion.rs)",
+            "what": "motion::dna::representative_frames of `bvh` for count = 1..3 (beyond 3 the picks are on the flat part, near-ties), and motion::dna::frame_weights ([poses, frames] row-major) (tests/native/motion/keys.rs)",
             "bvh": text, "min_spacing": deeprep::motion::dna::MIN_SPACING, "picks": picks,
+            "dna_window": deeprep::motion::dna::DNA_WINDOW, "frame_weights": weights,
         });
         std::fs::write(&path, serde_json::to_string_pretty(&doc).unwrap()).unwrap();
     }
@@ -243,6 +258,7 @@ fn dna_fixture_shared_with_the_training_code() {
     assert_eq!(doc["bvh"].as_str().unwrap(), text, "the fixture's clip");
     let want: Vec<Vec<usize>> = serde_json::from_value(doc["picks"].clone()).unwrap();
     assert_eq!(picks, want);
+    assert_eq!(doc["frame_weights"], serde_json::Value::from(weights));
 }
 
 /// `Motion::poses` are what the motion's BVH reads back as: its FK and local

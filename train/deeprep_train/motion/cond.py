@@ -347,19 +347,33 @@ class CondTween(nn.Module):
         nn.init.zeros_(self.dna_out.bias)
 
     def dna_code(self, dna, dna_w):
-        """dna [B, k, 3J] poses, dna_w [B, k] 1 for a pose given, 0 for
-        padding: the code [B, width], zero where no pose is given."""
+        """dna [B, k, 3J] poses; dna_w [B, k] 1 for a pose given, 0 for
+        padding: the code [B, width, 1], zero where no pose is given; or
+        dna_w [B, k, N], which poses each frame pools (motion.dna's
+        frame_weights; what the export takes): one code per frame [B, width, N]."""
         # 2-D through the linear layers, so the export keeps their weights' names (Gemm)
         B, k, p = dna.shape
-        e = self.dna_enc(dna.reshape(B * k, p)).reshape(B, k, -1) * dna_w[..., None]
-        n = dna_w.sum(1, keepdim=True)
-        return self.dna_out(e.sum(1) / n.clamp(min=1.0)) * n.clamp(max=1.0)
+        e = self.dna_enc(dna.reshape(B * k, p)).reshape(B, k, -1)
+        if dna_w.dim() == 2:
+            n = dna_w.sum(1, keepdim=True)
+            code = self.dna_out((e * dna_w[..., None]).sum(1) / n.clamp(min=1.0)) * n.clamp(max=1.0)
+            return code[..., None]
+        n = dna_w.sum(1)                                                          # [B, N]
+        pooled = torch.einsum("bkc,bkn->bnc", e, dna_w) / n.clamp(min=1.0)[..., None]
+        N = pooled.shape[1]
+        code = self.dna_out(pooled.reshape(B * N, -1)).reshape(B, N, -1) * n.clamp(max=1.0)[..., None]
+        return code.transpose(1, 2)
 
     def forward(self, x, dna=None, dna_w=None):
         if not self.dna or dna is None:
             return self.core(x)
         c = self.core
-        h = c.blocks(c.inp(x) + self.dna_code(dna, dna_w)[..., None])
+        code = self.dna_code(dna, dna_w)
+        if c.stride > 1 and code.shape[-1] > 1:
+            # a per-frame code at the input convolution's frames (every stride-th; a
+            # pooling of width 1, which tract runs where a strided Slice fails to analyse)
+            code = F.max_pool1d(code, 1, c.stride)
+        h = c.blocks(c.inp(x) + code)
         if c.stride == 2:
             h = upsample2(h, x.shape[-1])
         if c.skip is not None:
@@ -476,6 +490,15 @@ def make_batch(clips, skel, prior, b, n, rng, do_mirror, device, fill_share=0.0,
             wts[i, :len(v)] = 1.0
         out += [idx.to(device), wts.to(device)]
     return out
+
+
+def dna_weights(poses, frames, window):
+    """The exported network's dna_w [poses, frames]: motion.dna.frame_weights
+    with the manifest's dna_window, or (window 0) every pose on every frame,
+    which the network averages into the one code training used."""
+    if window == 0:
+        return np.ones((poses, frames), np.float32)
+    return dna_rule.frame_weights(poses, frames, window)
 
 
 def dna_frames(quat, keys):
@@ -881,6 +904,8 @@ FIXTURE_CASES = [
     # (the phase in 60 fps frames, group_phase's rate)
     (41, [0, 20, 40], [R, P, X], 3),
 ]
+# a network with DNA input: root-only keys over 500 frames, DNA the window's own poses
+DNA_FIXTURE_CASE = (500, [0, 250, 499], [R, R, R])
 
 
 def captured_speed(skel, clips):
@@ -934,8 +959,11 @@ def export(args):
         idx = dna_frames(window(2, n0)[1], keys0) or [n0 // 2]
         gpos = fk(skel, f[5][None], f[6][None], skel.offsets[None])[0] / SCALE
         dna = lam(gpos, f[6])[idx].reshape(1, len(idx), -1)
-        feeds = {"x": x, "dna": dna, "dna_w": torch.ones(1, len(idx))}
-        axes = {"x": {2: "frames"}, "dna": {1: "poses"}, "dna_w": {1: "poses"}, "residual": {2: "frames"}}
+        # which poses each frame pools (motion.dna.frame_weights; --dna-window 0: every pose, every frame)
+        dna_w = torch.from_numpy(dna_weights(len(idx), n0, args.dna_window))[None]
+        feeds = {"x": x, "dna": dna, "dna_w": dna_w}
+        axes = {"x": {2: "frames"}, "dna": {1: "poses"}, "dna_w": {1: "poses", 2: "frames"},
+                "residual": {2: "frames"}}
     else:
         feeds, axes = {"x": x}, {"x": {2: "frames"}, "residual": {2: "frames"}}
     torch.onnx.export(net, tuple(feeds.values()), path, input_names=list(feeds), output_names=["residual"],
@@ -967,7 +995,9 @@ def export(args):
                        {"name": "dna", "shape": [1, "poses", 3 * J],
                         "channels": "Motion DNA poses: each joint relative to the root, the root's rotation removed, "
                                     "/ scale (a zero pose when none is given)"},
-                       {"name": "dna_w", "shape": [1, "poses"], "channels": "1 per DNA pose given, 0 for none"}]
+                       {"name": "dna_w", "shape": [1, "poses", "frames"],
+                        "channels": "how much each DNA pose steers each frame (motion::dna::frame_weights with "
+                                    "dna_window, or 1 everywhere for dna_window 0; all 0 when no pose is given)"}]
                        if net.dna else []),
         "outputs": [{"name": "residual", "shape": [1, 3 + 6 * K, "frames"]}],
         "scale": SCALE,
@@ -990,6 +1020,7 @@ def export(args):
         "context_base": "hermite" if net.context_base else "slerp",
         "coarse_rates": net.coarse_rates,
         "dna": net.dna,
+        **({"dna_window": args.dna_window} if net.dna else {}),
         "captured_joint_speed": captured_speed(skel, clips),
         **fill,
     })
@@ -1000,15 +1031,27 @@ def export(args):
     # the motion fixture, from the float16 file as shipped
     sess = ort.InferenceSession(path, providers=["CPUExecutionProvider"])
     cases = []
-    for ci, (n, keys, kinds, *rate) in enumerate(FIXTURE_CASES):
+    # a network with DNA input: one more case, root-only keys over 500 frames with the window's own
+    # representative poses as DNA, long enough that frames pool different poses (frame_weights)
+    all_cases = FIXTURE_CASES + ([DNA_FIXTURE_CASE] if net.dna else [])
+    for ci, (n, keys, kinds, *rate) in enumerate(all_cases):
         rate = rate[0] if rate else 1
         root, quat = window(ci, n, rate)
         f = features(skel, prior, root, quat, keys, kinds, noise, skel.offsets, net.context_base, rate)
         xin, g_root, g_rot, base_root, base_rot = [v.unsqueeze(0) for v in f[:5]]
         feeds = {"x": xin.numpy()}
-        if net.dna:
-            # without DNA: one zero pose at weight 0 (what the runtime feeds)
-            feeds.update(dna=np.zeros((1, 1, 3 * J), np.float32), dna_w=np.zeros((1, 1), np.float32))
+        dna_rows, every = None, 1
+        if net.dna and ci == len(FIXTURE_CASES):
+            idx = dna_frames(quat, keys)
+            gpos = fk(skel, f[5][None], f[6][None], skel.offsets[None])[0]
+            poses = lam(gpos, f[6])[idx]   # BVH units; the runtime divides by the scale
+            dna_rows = [[float(v) for v in p.reshape(-1)] for p in poses]
+            feeds.update(dna=(poses / SCALE).reshape(1, len(idx), -1).numpy(),
+                         dna_w=dna_weights(len(idx), n, args.dna_window)[None])
+            every = 25
+        elif net.dna:
+            # without DNA: one zero pose at weight 0 on every frame (what the runtime feeds)
+            feeds.update(dna=np.zeros((1, 1, 3 * J), np.float32), dna_w=np.zeros((1, 1, n), np.float32))
         res = torch.from_numpy(sess.run(None, feeds)[0])
         # apply() with the exported network's output, then back to the world
         B, N = 1, n
@@ -1026,16 +1069,21 @@ def export(args):
                              "root": [float(v) for v in root[k]],
                              "positions": [float(v) for v in rel.reshape(-1)],
                              "rotations": [[float(v) for v in m.reshape(-1)] for m in quat_to_mat(quat[k])]})
-        cases.append({"frames": n, "rate": rate, "keys": key_rows,
-                      "root": [[round(float(v), 5) for v in r] for r in w_root],
-                      "sixd": [[round(float(v), 6) for v in sixd(m).reshape(-1)] for m in rot]})
+        case = {"frames": n, "rate": rate, "keys": key_rows,
+                "root": [[round(float(v), 5) for v in r] for r in w_root[::every]],
+                "sixd": [[round(float(v), 6) for v in sixd(m).reshape(-1)] for m in rot[::every]]}
+        if dna_rows is not None:
+            # root and sixd of every `every`-th frame only (the fixture's size)
+            case.update(dna=dna_rows, every=every)
+        cases.append(case)
     os.makedirs(os.path.join(ONNX_DIR, "fixtures", "runtime"), exist_ok=True)
     write_json(os.path.join(ONNX_DIR, "fixtures", "runtime", "tween_cond_motion.json"), {
         "model": "tween_cond.onnx",
         "about": "keys (root: global; positions: joint positions relative to the root, world axes, every joint; "
                  "rotations: local rotation matrices of the rotating joints, row-major) and the motion "
                  "motion/cond.py makes from them with tween_cond.onnx (onnxruntime): root positions and the "
-                 "rotating joints' 6D (first two columns of each matrix)",
+                 "rotating joints' 6D (first two columns of each matrix); a case with `dna` (poses: joints relative "
+                 "to the root, the root's rotation removed, BVH units) gives every `every`-th frame",
         "cases": cases})
     print(f"exported {path} (step {s['step']}), parity {parity:.2e}")
 
@@ -1118,6 +1166,9 @@ def main():
     ap.add_argument("--seeds", type=int, default=0,
                     help="eval: also run each window with this many noise draws: their mean pairwise distance "
                          "(seed_spread, units) and the first draw's NPSS (npss_seeded)")
+    ap.add_argument("--dna-window", type=int, default=dna_rule.DNA_WINDOW,
+                    help="export: each DNA pose steers the frames within this many frames of its place "
+                         "(motion.dna.frame_weights); 0: every pose every frame (one code, the thesis' form)")
     ap.add_argument("--default-for-long-gaps", type=int, default=0,
                     help="export: 1 makes the manifest name this network the `model` method's for whole-pose keys "
                          "with a gap over 600 frames (its hierarchy; motion::plan)")

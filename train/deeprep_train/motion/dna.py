@@ -49,3 +49,35 @@ def representative_frames_of_clip(bvh, count):
     """representative_frames on a BVH clip (deeprep_train.bvh.read_bvh's
     tuple), measured on local joint rotations like the crate."""
     return representative_frames(rotation_features(bvh), count)
+
+
+#: how far (in a pass' frames) each DNA pose steers the conditional
+#: network's output: half a training window (480 frames), so each frame pools
+#: about the 2-3 poses a training window held (train/notes/cond.md)
+DNA_WINDOW = 240
+
+
+def frame_weights(poses, frames, radius=DNA_WINDOW):
+    """How much each DNA pose steers each frame of an output of `frames`
+    frames: the poses are spread evenly over the output in the order given
+    (pose j at frame (2j + 1) * frames / (2 * poses)), each weighing
+    1 - distance / radius on the frames within `radius` of its place (a tent,
+    so the code changes smoothly from frame to frame), normalized to sum 1 on
+    every frame; a frame no tent reaches takes its nearest pose (the earlier
+    on a tie). Returns float32 [poses, frames]. The crate's
+    `motion::dna::frame_weights` is the same rule (tests/parity/test_dna.py)."""
+    w = np.zeros((poses, frames), np.float64)
+    if poses == 0 or frames == 0:
+        return w.astype(np.float32)
+    t = np.arange(frames, dtype=np.float64)
+    at = (2 * np.arange(poses, dtype=np.float64) + 1) * frames / (2 * poses)
+    d = np.abs(t[None, :] - at[:, None])
+    if radius > 0:
+        w = np.maximum(0.0, 1.0 - d / radius)
+    total = np.zeros(frames)
+    for j in range(poses):   # in order, as the crate sums
+        total += w[j]
+    none = total == 0
+    w[np.argmin(d, axis=0)[none], np.arange(frames)[none]] = 1.0
+    total[none] = 1.0
+    return (w / total).astype(np.float32)
