@@ -124,21 +124,30 @@ pub fn representative_frames(poses: &[Keyframe], count: usize) -> Result<Vec<usi
 
 /// Seeded DNA for an output of `frames` frames from a source clip `poses`:
 /// a window of `frames` source frames (the whole clip when shorter) placed
-/// by `seed`, and its [`representative_frames`], [`dna_count`]`(frames)` of
-/// them. Returns indices into `poses`. Equal seeds give equal frames.
+/// by `seed`, then [`dna_count`]`(frames)` frames drawn by the seed from the
+/// window's twice as many [`representative_frames`]. Training takes the
+/// window's most representative frames; the draw among twice as many is
+/// what makes seeds differ when the window has little room to move (a clip
+/// about as long as the output). Returns indices into `poses`, in frame
+/// order. Equal seeds give equal frames.
 pub fn pick_dna_frames(poses: &[Keyframe], frames: usize, seed: u64) -> Result<Vec<usize>> {
     if poses.is_empty() {
         return Err(Error::Invalid("the DNA source has no frames".into()));
     }
+    let count = dna_count(frames);
     let len = frames.min(poses.len()).max(1);
-    let start = (Rng::new(seed).uniform() * (poses.len() - len + 1) as f64) as usize;
+    let mut rng = Rng::new(seed);
+    let start = (rng.uniform() * (poses.len() - len + 1) as f64) as usize;
     let start = start.min(poses.len() - len);
-    Ok(
-        representative_frames(&poses[start..start + len], dna_count(frames))?
-            .into_iter()
-            .map(|i| i + start)
-            .collect(),
-    )
+    let mut pool = representative_frames(&poses[start..start + len], 2 * count)?;
+    // the first `count` of a seeded shuffle (Fisher-Yates), in frame order
+    for i in 0..pool.len().min(count) {
+        let j = i + rng.below(pool.len() - i);
+        pool.swap(i, j);
+    }
+    pool.truncate(count);
+    pool.sort_unstable();
+    Ok(pool.into_iter().map(|i| i + start).collect())
 }
 
 /// Seeded DNA from every frame of a clip on the model's skeleton:
@@ -226,6 +235,16 @@ mod tests {
             .map(|s| pick_dna_frames(&poses, 360, s).unwrap())
             .collect();
         assert!(others.iter().any(|o| *o != a), "{a:?} {others:?}");
+        // a clip as long as the output (no room for the window): seeds
+        // still differ, drawing among its most representative frames
+        let whole: Vec<_> = (1..6)
+            .map(|s| pick_dna_frames(&poses[..720], 720, s).unwrap())
+            .collect();
+        assert!(whole.iter().all(|p| p.len() == dna_count(720)), "{whole:?}");
+        assert!(whole.iter().any(|p| *p != whole[0]), "{whole:?}");
+        assert_eq!(whole[0], pick_dna_frames(&poses[..720], 720, 1).unwrap());
+        let pool = representative_frames(&poses[..720], 2 * dna_count(720)).unwrap();
+        assert!(whole.iter().flatten().all(|i| pool.contains(i)));
         // all inside the clip, also when the output is longer than the source
         let long = pick_dna_frames(&poses[..100], 900, 3).unwrap();
         assert!(

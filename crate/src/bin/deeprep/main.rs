@@ -63,8 +63,10 @@ const USAGE: &str = "usage:
       manifest value, chosen on training takes)
       --dna: Motion DNA poses (Sec. 5.2.5), frames of CLIP or every frame of a BVH on the
       model's skeleton; without it the whole-pose keys serve
-      --seed S (with --dna DNA.bvh): DNA drawn as in training, the representative frames
-      (largest rotation change) of a window of DNA.bvh that S places; equal seeds, equal motion
+      --seed S (with --dna DNA.bvh): a window of DNA.bvh that S places, and S's draw of its
+      representative frames (largest rotation change) among twice as many as training takes;
+      equal seeds, equal motion. A conditional network with DNA spreads the poses over the
+      output in their order, each steering the frames around its place
       --seed S (with --method cond, no --dna): the conditional network's noise draw; another
       seed, another motion through the same keys; without it, zero noise
       KEYS.json: {\"keys\": [KEY, ...]}, each KEY one of {\"frame\": F, \"channels\": [...]} (a whole
