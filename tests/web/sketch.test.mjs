@@ -263,8 +263,8 @@ test('sketch page: seeded Motion DNA is drawn by the core, from an imported clip
   await page.setInputFiles('#import', { name: 'mine.bvh', mimeType: 'text/plain', buffer: Buffer.from(text) });
   await page.waitForFunction(() => /seeded DNA is drawn from it/.test(document.getElementById('status').textContent), null, { timeout: 60_000 });
   // a 40-frame output: the seed places a 40-frame window in the 300-frame
-  // clip and its representative frame is the DNA (with an output as long as
-  // the clip, every seed would see the whole clip, as in the CLI)
+  // clip and draws the DNA among its representative frames (with an output
+  // as long as the clip, seeds draw among the whole clip's, as in the CLI)
   await page.fill('#length', '40');
   await page.dispatchEvent('#length', 'change');
   const a = await dna(3), b = await dna(4);
