@@ -53,10 +53,13 @@ export interface SynthesisRequest {
   post?: boolean;
   /** After post-processing, pin feet in contact by two-bone IK (default false). */
   footLock?: boolean;
-  /** Motion DNA poses as channel rows (may be empty); with `keys`, a list of rows. */
+  /** Motion DNA poses as channel rows (may be empty); with `keys`, a list of rows. The generator places them
+   *  anywhere; a conditional network that takes DNA (`condDna`) spreads them over the output in the order
+   *  given, each steering the frames around its place. */
   dna?: number[] | Float32Array | number[][];
   /** 'residual': the supervised residual network (variation scales its correction; no DNA, post or foot locking).
-   *  'cond': the conditional network (whole poses, root positions and 2-D keys of every joint; no DNA). */
+   *  'cond': the conditional network (whole poses, root positions and 2-D keys of every joint; DNA when
+   *  `condDna`). */
   method?: 'model' | 'residual' | 'cond' | 'slerp';
   /** Share of the networks' departure from SLERP+LERP kept, in the pose and the
    *  root path, in [0, 2] (1: the networks as trained; 0: SLERP+LERP).
