@@ -71,7 +71,54 @@ fn tract_matches_onnxruntime_on_the_conditional_network() {
 #[test]
 fn the_conditional_network_reproduces_the_training_code() {
     let Some(m) = model() else { return };
-    let f = common::fixture("runtime/tween_cond_motion");
+    replay(&m, &common::fixture("runtime/tween_cond_motion"));
+}
+
+/// The runtime's Motion DNA path, which the bundled network (no DNA input)
+/// does not reach: a small random network with a DNA input
+/// (`train/deeprep_train/motion/make_cond_dna_fixture.py`) through a
+/// 500-frame request with DNA, the poses spread by
+/// `motion::dna::frame_weights` (the manifest's `dna_window`), against
+/// cond.py with onnxruntime; and DNA changes the output.
+#[test]
+fn motion_dna_per_frame_weights_reproduce_the_training_code() {
+    let dir = root().join("tests/fixtures/cond_dna");
+    let m = CondModel::load_dir(&dir).unwrap();
+    assert!(m.info().dna);
+    let text =
+        std::fs::read_to_string(dir.join("fixtures/runtime/tween_cond_motion.json")).unwrap();
+    let f: serde_json::Value = serde_json::from_str(&text).unwrap();
+    replay(&m, &f);
+    let case = &f["cases"][0];
+    let keys: Vec<Keyframe> = case["keys"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|k| key(&m, k))
+        .collect();
+    let frames = case["frames"].as_u64().unwrap() as usize;
+    let (without, _) = m.synthesize_dna(&keys, frames, 1.0, None, None).unwrap();
+    let dna: Vec<Vec<f32>> = case["dna"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| floats(p).iter().map(|&v| v as f32).collect())
+        .collect();
+    let (with, _) = m
+        .synthesize_dna(&keys, frames, 1.0, None, Some(&dna))
+        .unwrap();
+    let moved = (0..frames)
+        .map(|t| {
+            (0..3)
+                .map(|i| (with.root[t][i] - without.root[t][i]).abs())
+                .fold(0.0, f64::max)
+        })
+        .fold(0.0, f64::max);
+    assert!(moved > 1e-3, "DNA moved the root by at most {moved}");
+}
+
+/// Every case of a motion fixture through `m` (see the callers).
+fn replay(m: &CondModel, f: &serde_json::Value) {
     let joints = m.template.joints.len();
     let rotating: Vec<usize> = (0..joints)
         .filter(|&j| !m.template.joints[j].channels.is_empty())
@@ -82,7 +129,7 @@ fn the_conditional_network_reproduces_the_training_code() {
             .as_array()
             .unwrap()
             .iter()
-            .map(|k| key(&m, k))
+            .map(|k| key(m, k))
             .collect();
         // a case with a rate is the hierarchy's coarse pass; one with `dna`
         // gives Motion DNA poses (motion::dna::frame_weights spreads them)

@@ -944,7 +944,8 @@ def export(args):
     clips = Clips(d, "train")
     gen_manifest = json.load(open(os.path.join(ONNX_DIR, "tween_generator.manifest.json")))
     name = args.name
-    path = os.path.join(ONNX_DIR, f"{name}.onnx")
+    out_dir = args.out_dir or ONNX_DIR
+    path = os.path.join(out_dir, f"{name}.onnx")
     noise = torch.zeros(Z)
 
     def window(case_index, n, rate=1):
@@ -971,14 +972,14 @@ def export(args):
     with torch.no_grad():
         ref = net(*feeds.values()).numpy()
     sess = ort.InferenceSession(path, providers=["CPUExecutionProvider"])
-    parity = fixture(name, sess, {k: v.numpy() for k, v in feeds.items()}, ref)
+    parity = fixture(name, sess, {k: v.numpy() for k, v in feeds.items()}, ref, out_dir)
     prior_m = quat_to_mat(prior)
     if args.fill_from and not 1 <= args.fill_from <= args.fill_up_to:
         raise SystemExit("--fill-from needs --fill-up-to and 1 <= FROM <= UP_TO")
     fill = {"fill_up_to": args.fill_up_to} if args.fill_up_to else {}
     if args.fill_from:
         fill["fill_from"] = args.fill_from
-    write_json(os.path.join(ONNX_DIR, f"{name}.manifest.json"), {
+    write_json(os.path.join(out_dir, f"{name}.manifest.json"), {
         "name": name,
         "kind": "cond-tween",
         "description": ("the conditional network fine-tuned on gaps in captured motion, whole-pose keys around "
@@ -1024,7 +1025,7 @@ def export(args):
         "captured_joint_speed": captured_speed(skel, clips),
         **fill,
     })
-    convert(name)
+    convert(name, out_dir)
     if name != "tween_cond":
         print(f"exported {path} (step {s['step']}), parity {parity:.2e}")
         return
@@ -1035,6 +1036,8 @@ def export(args):
     # representative poses as DNA, long enough that frames pool different poses (frame_weights)
     all_cases = FIXTURE_CASES + ([DNA_FIXTURE_CASE] if net.dna else [])
     for ci, (n, keys, kinds, *rate) in enumerate(all_cases):
+        if args.dna_case_only and ci < len(FIXTURE_CASES):
+            continue
         rate = rate[0] if rate else 1
         root, quat = window(ci, n, rate)
         f = features(skel, prior, root, quat, keys, kinds, noise, skel.offsets, net.context_base, rate)
@@ -1076,8 +1079,8 @@ def export(args):
             # root and sixd of every `every`-th frame only (the fixture's size)
             case.update(dna=dna_rows, every=every)
         cases.append(case)
-    os.makedirs(os.path.join(ONNX_DIR, "fixtures", "runtime"), exist_ok=True)
-    write_json(os.path.join(ONNX_DIR, "fixtures", "runtime", "tween_cond_motion.json"), {
+    os.makedirs(os.path.join(out_dir, "fixtures", "runtime"), exist_ok=True)
+    write_json(os.path.join(out_dir, "fixtures", "runtime", "tween_cond_motion.json"), {
         "model": "tween_cond.onnx",
         "about": "keys (root: global; positions: joint positions relative to the root, world axes, every joint; "
                  "rotations: local rotation matrices of the rotating joints, row-major) and the motion "
@@ -1088,7 +1091,7 @@ def export(args):
     print(f"exported {path} (step {s['step']}), parity {parity:.2e}")
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("cmd", choices=["train", "eval", "portable", "export", "recover"])
     ap.add_argument("--data", default=os.path.join(CACHE, "resid60.npz"))
@@ -1166,6 +1169,9 @@ def main():
     ap.add_argument("--seeds", type=int, default=0,
                     help="eval: also run each window with this many noise draws: their mean pairwise distance "
                          "(seed_spread, units) and the first draw's NPSS (npss_seeded)")
+    ap.add_argument("--out-dir", help="export: where the model, manifest and fixtures go (default models/onnx)")
+    ap.add_argument("--dna-case-only", action="store_true",
+                    help="export: the motion fixture's DNA case only (a test network's fixture)")
     ap.add_argument("--dna-window", type=int, default=dna_rule.DNA_WINDOW,
                     help="export: each DNA pose steers the frames within this many frames of its place "
                          "(motion.dna.frame_weights); 0: every pose every frame (one code, the thesis' form)")
@@ -1178,7 +1184,7 @@ def main():
     ap.add_argument("--default-for-partial-keys", type=int, default=0,
                     help="export: 1 makes the manifest name this network the `model` method's for root-only and "
                          "2-D keys (only after it beat the generator by the rule in train/notes/cond.md)")
-    args = ap.parse_args()
+    args = ap.parse_args(argv)
     {"train": train, "eval": evaluate, "portable": portable, "export": export, "recover": recover}[args.cmd](args)
 
 

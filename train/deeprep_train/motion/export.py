@@ -20,10 +20,11 @@ from deeprep_train.motion.train import OUT, W, Data  # noqa: E402
 from deeprep_train.paths import ROOT, CACHE  # noqa: E402
 
 
-def fixture(name, sess, feeds, torch_out):
+def fixture(name, sess, feeds, torch_out, directory=ONNX_DIR):
     outs = sess.run(None, {k: v for k, v in feeds.items()})
     parity = float(np.abs(outs[0] - torch_out).max())
-    write_json(os.path.join(ONNX_DIR, "fixtures", f"{name}.json"), {
+    os.makedirs(os.path.join(directory, "fixtures"), exist_ok=True)
+    write_json(os.path.join(directory, "fixtures", f"{name}.json"), {
         "model": f"{name}.onnx",
         "inputs": {k: {"shape": list(v.shape), "data": [float(x) for x in v.ravel()]} for k, v in feeds.items()},
         "input_order": list(feeds),
