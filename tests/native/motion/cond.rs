@@ -98,12 +98,7 @@ fn motion_dna_per_frame_weights_reproduce_the_training_code() {
         .collect();
     let frames = case["frames"].as_u64().unwrap() as usize;
     let (without, _) = m.synthesize_dna(&keys, frames, 1.0, None, None).unwrap();
-    let dna: Vec<Vec<f32>> = case["dna"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|p| floats(p).iter().map(|&v| v as f32).collect())
-        .collect();
+    let dna = dna_of(case).unwrap();
     let (with, _) = m
         .synthesize_dna(&keys, frames, 1.0, None, Some(&dna))
         .unwrap();
@@ -115,6 +110,17 @@ fn motion_dna_per_frame_weights_reproduce_the_training_code() {
         })
         .fold(0.0, f64::max);
     assert!(moved > 1e-3, "DNA moved the root by at most {moved}");
+}
+
+/// A fixture case's Motion DNA poses, if it gives any.
+fn dna_of(case: &serde_json::Value) -> Option<Vec<Vec<f32>>> {
+    let poses = case["dna"].as_array()?;
+    Some(
+        poses
+            .iter()
+            .map(|p| floats(p).iter().map(|&v| v as f32).collect())
+            .collect(),
+    )
 }
 
 /// Every case of a motion fixture through `m` (see the callers).
@@ -136,12 +142,8 @@ fn replay(m: &CondModel, f: &serde_json::Value) {
         // and every `every`-th frame
         let rate = case["rate"].as_u64().unwrap_or(1) as usize;
         let every = case["every"].as_u64().unwrap_or(1) as usize;
-        let out = match case["dna"].as_array() {
-            Some(poses) => {
-                let dna: Vec<Vec<f32>> = poses
-                    .iter()
-                    .map(|p| floats(p).iter().map(|&v| v as f32).collect())
-                    .collect();
+        let out = match dna_of(case) {
+            Some(dna) => {
                 let (out, critical) = m
                     .synthesize_dna(&keys, frames, 1.0, None, Some(&dna))
                     .unwrap();
