@@ -90,12 +90,7 @@ fn motion_dna_per_frame_weights_reproduce_the_training_code() {
     let f: serde_json::Value = serde_json::from_str(&text).unwrap();
     replay(&m, &f);
     let case = &f["cases"][0];
-    let keys: Vec<Keyframe> = case["keys"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|k| key(&m, k))
-        .collect();
+    let keys = keys_of(&m, case);
     let frames = case["frames"].as_u64().unwrap() as usize;
     let (without, _) = m.synthesize_dna(&keys, frames, 1.0, None, None).unwrap();
     let dna = dna_of(case).unwrap();
@@ -110,6 +105,16 @@ fn motion_dna_per_frame_weights_reproduce_the_training_code() {
         })
         .fold(0.0, f64::max);
     assert!(moved > 1e-3, "DNA moved the root by at most {moved}");
+}
+
+/// A fixture case's keys.
+fn keys_of(m: &CondModel, case: &serde_json::Value) -> Vec<Keyframe> {
+    case["keys"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|k| key(m, k))
+        .collect()
 }
 
 /// A fixture case's Motion DNA poses, if it gives any.
@@ -131,12 +136,7 @@ fn replay(m: &CondModel, f: &serde_json::Value) {
         .collect();
     for (ci, case) in f["cases"].as_array().unwrap().iter().enumerate() {
         let frames = case["frames"].as_u64().unwrap() as usize;
-        let keys: Vec<Keyframe> = case["keys"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|k| key(m, k))
-            .collect();
+        let keys = keys_of(m, case);
         // a case with a rate is the hierarchy's coarse pass; one with `dna`
         // gives Motion DNA poses (motion::dna::frame_weights spreads them)
         // and every `every`-th frame

@@ -347,17 +347,16 @@ class CondTween(nn.Module):
         nn.init.zeros_(self.dna_out.bias)
 
     def dna_code(self, dna, dna_w):
-        """dna [B, k, 3J] poses; dna_w [B, k] 1 for a pose given, 0 for
-        padding: the code [B, width, 1], zero where no pose is given; or
-        dna_w [B, k, N], which poses each frame pools (motion.dna's
-        frame_weights; what the export takes): one code per frame [B, width, N]."""
+        """dna [B, k, 3J] poses; dna_w [B, k, N], how much each pose steers
+        each frame (motion.dna's frame_weights; what the export takes), or
+        [B, k], 1 for a pose given and 0 for padding, on every frame (what
+        training feeds): the code [B, width, N] (N = 1 for [B, k]), each
+        frame's the mean of its poses' encodings, zero where none is given."""
+        if dna_w.dim() == 2:
+            dna_w = dna_w[..., None]
         # 2-D through the linear layers, so the export keeps their weights' names (Gemm)
         B, k, p = dna.shape
         e = self.dna_enc(dna.reshape(B * k, p)).reshape(B, k, -1)
-        if dna_w.dim() == 2:
-            n = dna_w.sum(1, keepdim=True)
-            code = self.dna_out((e * dna_w[..., None]).sum(1) / n.clamp(min=1.0)) * n.clamp(max=1.0)
-            return code[..., None]
         n = dna_w.sum(1)                                                          # [B, N]
         pooled = torch.einsum("bkc,bkn->bnc", e, dna_w) / n.clamp(min=1.0)[..., None]
         N = pooled.shape[1]
@@ -369,7 +368,7 @@ class CondTween(nn.Module):
             return self.core(x)
         c = self.core
         code = self.dna_code(dna, dna_w)
-        if c.stride > 1 and code.shape[-1] > 1:
+        if c.stride > 1:
             # a per-frame code at the input convolution's frames (every stride-th; a
             # pooling of width 1, which tract runs where a strided Slice fails to analyse)
             code = F.max_pool1d(code, 1, c.stride)
@@ -499,6 +498,15 @@ def dna_weights(poses, frames, window):
     if window == 0:
         return np.ones((poses, frames), np.float32)
     return dna_rule.frame_weights(poses, frames, window)
+
+
+def window_dna(skel, f, quat, keys):
+    """A window's own Motion DNA poses [k, J, 3] in BVH units (Λ of its
+    dna_frames; the middle frame when none can be drawn), from features'
+    output f (its truth root and rotations)."""
+    idx = dna_frames(quat, keys) or [len(quat) // 2]
+    gpos = fk(skel, f[5][None], f[6][None], skel.offsets[None])[0]
+    return lam(gpos, f[6])[idx]
 
 
 def dna_frames(quat, keys):
@@ -957,11 +965,10 @@ def export(args):
     x = f[0].unsqueeze(0)
     if net.dna:
         # the fixture's DNA: the window's own representative poses
-        idx = dna_frames(window(2, n0)[1], keys0) or [n0 // 2]
-        gpos = fk(skel, f[5][None], f[6][None], skel.offsets[None])[0] / SCALE
-        dna = lam(gpos, f[6])[idx].reshape(1, len(idx), -1)
+        poses = window_dna(skel, f, window(2, n0)[1], keys0)
+        dna = (poses / SCALE).reshape(1, len(poses), -1)
         # which poses each frame pools (motion.dna.frame_weights; --dna-window 0: every pose, every frame)
-        dna_w = torch.from_numpy(dna_weights(len(idx), n0, args.dna_window))[None]
+        dna_w = torch.from_numpy(dna_weights(len(poses), n0, args.dna_window))[None]
         feeds = {"x": x, "dna": dna, "dna_w": dna_w}
         axes = {"x": {2: "frames"}, "dna": {1: "poses"}, "dna_w": {1: "poses", 2: "frames"},
                 "residual": {2: "frames"}}
@@ -1045,12 +1052,10 @@ def export(args):
         feeds = {"x": xin.numpy()}
         dna_rows, every = None, 1
         if net.dna and ci == len(FIXTURE_CASES):
-            idx = dna_frames(quat, keys)
-            gpos = fk(skel, f[5][None], f[6][None], skel.offsets[None])[0]
-            poses = lam(gpos, f[6])[idx]   # BVH units; the runtime divides by the scale
+            poses = window_dna(skel, f, quat, keys)   # BVH units; the runtime divides by the scale
             dna_rows = [[float(v) for v in p.reshape(-1)] for p in poses]
-            feeds.update(dna=(poses / SCALE).reshape(1, len(idx), -1).numpy(),
-                         dna_w=dna_weights(len(idx), n, args.dna_window)[None])
+            feeds.update(dna=(poses / SCALE).reshape(1, len(poses), -1).numpy(),
+                         dna_w=dna_weights(len(poses), n, args.dna_window)[None])
             every = 25
         elif net.dna:
             # without DNA: one zero pose at weight 0 on every frame (what the runtime feeds)
