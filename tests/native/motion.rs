@@ -306,6 +306,7 @@ fn the_residual_model_keeps_keys_and_scales_by_variation() {
         generator: Some(0.25),
         residual: Some(m.info()),
         cond: None,
+        cond_dna: None,
         fill: None,
     };
     let model = |keys: &[Keyframe], dna: bool| {

@@ -94,6 +94,15 @@ pub fn root_keys(keys: &[Keyframe], dna: bool) -> bool {
         && classes.contains(&Some(KeyClass::Root))
 }
 
+/// Whether `keys` come with Motion DNA and are keys the conditional network
+/// reads (whole poses, root positions, 2-D keys of every joint), no gap over
+/// [`MAX_GAP`](crate::motion::MAX_GAP) frames: what a manifest's
+/// `default_for_dna` gives the DNA network under `model` (longer gaps with
+/// DNA stay with the generator's hierarchy).
+pub fn dna_keys(keys: &[Keyframe], dna: bool) -> bool {
+    dna && cond_takes(keys, false)
+}
+
 fn cond_reads(keys: &[Keyframe], dna: bool) -> bool {
     !dna && !keys.is_empty() && keys.iter().all(|k| classify(k).is_some())
 }
@@ -126,6 +135,10 @@ struct Manifest {
     /// or without whole poses among them; [`root_keys`]).
     #[serde(default)]
     default_for_root_keys: bool,
+    /// Whether `method: model` runs this network for requests with Motion
+    /// DNA ([`dna_keys`]; the DNA network, `tween_cond_dna`).
+    #[serde(default)]
+    default_for_dna: bool,
     /// The base over gaps with a whole-pose context frame: "slerp" (the
     /// default) or "hermite" ([`crate::motion::fill::hermite_curve`]).
     #[serde(default)]
@@ -217,6 +230,9 @@ pub struct CondInfo {
     /// Whether the `model` method runs it for root positions, alone or with
     /// whole poses ([`root_keys`]).
     pub default_for_root_keys: bool,
+    /// Whether the `model` method runs it for requests with Motion DNA
+    /// ([`dna_keys`]).
+    pub default_for_dna: bool,
     /// A gap-filling network's shortest and longest gap under the `model`
     /// fill (its manifest's `fill_from`, default 1, and `fill_up_to`).
     pub fill_gaps: Option<(usize, usize)>,
@@ -237,6 +253,7 @@ pub fn info_of_manifest(json: &str) -> Result<CondInfo> {
         default_for_partial_keys: m.default_for_partial_keys,
         default_for_long_gaps: m.default_for_long_gaps,
         default_for_root_keys: m.default_for_root_keys,
+        default_for_dna: m.default_for_dna,
         fill_gaps: m.fill_gaps()?,
         dna: m.dna,
     })
@@ -286,6 +303,7 @@ mod model {
         pub default_for_partial_keys: bool,
         default_for_long_gaps: bool,
         default_for_root_keys: bool,
+        default_for_dna: bool,
         /// Whether its base over gaps with context is the Hermite curve.
         context_base: bool,
         fill_gaps: Option<(usize, usize)>,
@@ -431,6 +449,7 @@ mod model {
                 default_for_partial_keys: m.default_for_partial_keys,
                 default_for_long_gaps: m.default_for_long_gaps,
                 default_for_root_keys: m.default_for_root_keys,
+                default_for_dna: m.default_for_dna,
                 context_base,
                 fill_gaps,
                 coarse_rates: m.coarse_rates,
@@ -466,6 +485,7 @@ mod model {
                 default_for_partial_keys: self.default_for_partial_keys,
                 default_for_long_gaps: self.default_for_long_gaps,
                 default_for_root_keys: self.default_for_root_keys,
+                default_for_dna: self.default_for_dna,
                 fill_gaps: self.fill_gaps,
                 dna: self.dna,
             }

@@ -19,11 +19,16 @@
 //!   ([`root_keys`]: no DNA, no gap over `MAX_GAP`); else the conditional
 //!   network when its manifest makes it the model for long gaps and every key is a
 //!   whole pose with rotations, without DNA, with a gap over `MAX_GAP`
-//!   ([`long_gap_keys`]: its hierarchy); otherwise the generator pipeline
-//!   (other partial keys, DNA, long gaps).
+//!   ([`long_gap_keys`]: its hierarchy); requests with Motion DNA go to the
+//!   DNA network (`tween_cond_dna`) when it is loaded, its manifest makes it
+//!   the model for DNA, post-processing is on and it takes the keys
+//!   ([`dna_keys`]: no gap over `MAX_GAP`); otherwise the generator
+//!   pipeline (other partial keys, DNA, long gaps).
 //! - `generator`, `residual`, `cond`: that pipeline (the residual network
 //!   takes whole-pose keys only, no DNA, and always makes keys exact; the
-//!   conditional network takes what [`cond_takes`] accepts).
+//!   conditional network takes what [`cond_takes`] accepts; with Motion DNA
+//!   `cond` runs the DNA network, `tween_cond_dna`, when it is loaded, else
+//!   the conditional network if its manifest says it takes DNA).
 //! - `fill`: the gap-filling network (a conditional network trained on
 //!   gaps in captured motion, `tween_fill`), whole-pose keys only; the
 //!   `model` fill ([`super::fill::method_for`]) sends it the gaps its
@@ -35,7 +40,7 @@
 //! root-only keys never run the generator at the residual network's
 //! default; it is checked by [`check_variation`](super::check_variation).
 
-pub use super::cond::{cond_takes, long_gap_keys, root_keys, CondInfo};
+pub use super::cond::{cond_takes, dna_keys, long_gap_keys, root_keys, CondInfo};
 use super::{check_variation, Keyframe, MAX_GAP};
 use crate::error::{Error, Result};
 
@@ -46,6 +51,9 @@ pub enum Pipeline {
     Residual,
     /// The conditional network (whole-pose, root-only and 2-D keys).
     Cond,
+    /// The conditional network trained with Motion DNA (`tween_cond_dna`),
+    /// for requests with DNA.
+    CondDna,
     /// The gap-filling network (whole-pose keys around gaps).
     Fill,
     /// The generator, RC-FK, path predictor and post-processing (Fig. 5.1).
@@ -58,11 +66,12 @@ pub enum Pipeline {
 
 impl Pipeline {
     /// The name results and messages carry: "residual", "generator",
-    /// "slerp", "zerovel", "cond" or "fill".
+    /// "slerp", "zerovel", "cond", "cond-dna" or "fill".
     pub fn name(self) -> &'static str {
         match self {
             Pipeline::Residual => "residual",
             Pipeline::Cond => "cond",
+            Pipeline::CondDna => "cond-dna",
             Pipeline::Fill => "fill",
             Pipeline::Generator => "generator",
             Pipeline::Slerp => "slerp",
@@ -92,6 +101,9 @@ pub struct Loaded {
     pub residual: Option<ResidualInfo>,
     /// The conditional network, when loaded.
     pub cond: Option<CondInfo>,
+    /// The DNA network (a conditional network with a DNA input, for
+    /// requests with Motion DNA), when loaded.
+    pub cond_dna: Option<CondInfo>,
     /// The gap-filling network, when loaded.
     pub fill: Option<CondInfo>,
 }
@@ -160,27 +172,32 @@ pub fn plan(ask: &Ask, loaded: &Loaded) -> Result<Plan> {
         })
     };
     match ask.method {
-        "model" => match (loaded.residual, loaded.cond) {
-            (Some(r), _)
+        "model" => match (loaded.residual, loaded.cond, loaded.cond_dna) {
+            (_, _, Some(d))
+                if d.default_for_dna && ask.post_process && dna_keys(ask.keys, ask.dna) =>
+            {
+                chosen(Pipeline::CondDna, d.variation)
+            }
+            (Some(r), _, _)
                 if r.default_for_whole_pose_keys
                     && ask.post_process
                     && residual_takes(ask.keys, ask.dna) =>
             {
                 chosen(Pipeline::Residual, r.variation)
             }
-            (_, Some(c))
+            (_, Some(c), _)
                 if c.default_for_partial_keys
                     && ask.post_process
                     && cond_takes(ask.keys, ask.dna) =>
             {
                 chosen(Pipeline::Cond, c.variation)
             }
-            (_, Some(c))
+            (_, Some(c), _)
                 if c.default_for_root_keys && ask.post_process && root_keys(ask.keys, ask.dna) =>
             {
                 chosen(Pipeline::Cond, c.variation)
             }
-            (_, Some(c))
+            (_, Some(c), _)
                 if c.default_for_long_gaps
                     && ask.post_process
                     && long_gap_keys(ask.keys, ask.dna) =>
@@ -203,13 +220,16 @@ pub fn plan(ask: &Ask, loaded: &Loaded) -> Result<Plan> {
             chosen(Pipeline::Residual, r.variation)
         }
         "cond" => {
+            if let Some(d) = loaded.cond_dna.filter(|_| ask.dna) {
+                return chosen(Pipeline::CondDna, d.variation);
+            }
             let c = loaded
                 .cond
                 .ok_or_else(|| Error::Invalid("the conditional network is not loaded".into()))?;
             if ask.dna && !c.dna {
                 return Err(Error::Invalid(
-                    "method cond takes Motion DNA only from a network trained with it (its manifest says dna); \
-                     method generator does"
+                    "method cond takes Motion DNA only from a network trained with it (the DNA network \
+                     tween_cond_dna, or a conditional network whose manifest says dna); method generator does"
                         .into(),
                 ));
             }
@@ -262,6 +282,7 @@ mod tests {
             default_for_whole_pose_keys: true,
         }),
         cond: None,
+        cond_dna: None,
         fill: None,
     };
 
@@ -375,6 +396,7 @@ mod tests {
             residual: None,
             generator: None,
             cond: None,
+            cond_dna: None,
             fill: None,
         };
         assert!(plan(&ask("residual", &poses), &none).is_err());
@@ -390,6 +412,7 @@ mod tests {
                 default_for_partial_keys: false,
                 default_for_long_gaps: false,
                 default_for_root_keys: false,
+                default_for_dna: false,
                 fill_gaps: None,
                 dna,
             }),
@@ -418,6 +441,77 @@ mod tests {
     }
 
     #[test]
+    fn requests_with_dna_go_to_the_dna_network_when_it_is_loaded() {
+        let info = |dna, default_for_dna| CondInfo {
+            variation: 0.7,
+            default_for_partial_keys: false,
+            default_for_long_gaps: false,
+            default_for_root_keys: false,
+            default_for_dna,
+            fill_gaps: None,
+            dna,
+        };
+        let loaded = |default_for_dna| Loaded {
+            cond: Some(info(false, false)),
+            cond_dna: Some(info(true, default_for_dna)),
+            ..LOADED
+        };
+        let roots = [root(0), root(60)];
+        let with_dna = |method| Ask {
+            dna: true,
+            ..ask(method, &roots)
+        };
+        // method cond with DNA: the DNA network at its own variation;
+        // without DNA: the conditional network
+        let p = plan(&with_dna("cond"), &loaded(false)).unwrap();
+        assert_eq!((p.pipeline, p.variation), (Pipeline::CondDna, 0.7));
+        assert_eq!(p.pipeline.name(), "cond-dna");
+        assert_eq!(
+            plan(&ask("cond", &roots), &loaded(false)).unwrap().pipeline,
+            Pipeline::Cond
+        );
+        // model: the DNA network only when its manifest says so
+        assert_eq!(
+            plan(&with_dna("model"), &loaded(false)).unwrap().pipeline,
+            Pipeline::Generator
+        );
+        assert_eq!(
+            plan(&with_dna("model"), &loaded(true)).unwrap().pipeline,
+            Pipeline::CondDna
+        );
+        // ... and never without DNA, with post-processing off, or over a
+        // gap its single pass cannot take (the generator's hierarchy)
+        assert_eq!(
+            plan(&ask("model", &roots), &loaded(true)).unwrap().pipeline,
+            Pipeline::Generator
+        );
+        let raw = Ask {
+            post_process: false,
+            ..with_dna("model")
+        };
+        assert_eq!(
+            plan(&raw, &loaded(true)).unwrap().pipeline,
+            Pipeline::Generator
+        );
+        let far = [root(0), root(MAX_GAP + 1)];
+        let far = Ask {
+            dna: true,
+            ..ask("model", &far)
+        };
+        assert_eq!(
+            plan(&far, &loaded(true)).unwrap().pipeline,
+            Pipeline::Generator
+        );
+        // the generator takes DNA by name whatever is loaded
+        assert_eq!(
+            plan(&with_dna("generator"), &loaded(true))
+                .unwrap()
+                .pipeline,
+            Pipeline::Generator
+        );
+    }
+
+    #[test]
     fn partial_keys_go_to_the_conditional_network_when_its_manifest_says_so() {
         let with_cond = |default_for_partial_keys| Loaded {
             cond: Some(CondInfo {
@@ -425,6 +519,7 @@ mod tests {
                 default_for_partial_keys,
                 default_for_long_gaps: false,
                 default_for_root_keys: false,
+                default_for_dna: false,
                 fill_gaps: None,
                 dna: false,
             }),
@@ -485,6 +580,7 @@ mod tests {
                 default_for_partial_keys: false,
                 default_for_long_gaps,
                 default_for_root_keys: false,
+                default_for_dna: false,
                 fill_gaps: None,
                 dna: false,
             }),
@@ -534,6 +630,7 @@ mod tests {
                 default_for_partial_keys: false,
                 default_for_long_gaps: false,
                 default_for_root_keys,
+                default_for_dna: false,
                 fill_gaps: None,
                 dna: false,
             }),
@@ -598,6 +695,7 @@ mod tests {
                 default_for_partial_keys: false,
                 default_for_long_gaps: false,
                 default_for_root_keys: false,
+                default_for_dna: false,
                 fill_gaps: Some((1, 45)),
                 dna: false,
             }),

@@ -19,6 +19,8 @@ pub struct Models<'a> {
     pub residual: Option<&'a ResidualModel>,
     /// The conditional network.
     pub cond: Option<&'a CondModel>,
+    /// The DNA network (`tween_cond_dna`: requests with Motion DNA).
+    pub cond_dna: Option<&'a CondModel>,
     /// The gap-filling network (a conditional network trained on gaps).
     pub fill: Option<&'a CondModel>,
 }
@@ -30,6 +32,7 @@ impl Models<'_> {
             generator: self.generator.map(|g| g.default_variation),
             residual: self.residual.map(|r| r.info()),
             cond: self.cond.map(|c| c.info()),
+            cond_dna: self.cond_dna.map(|c| c.info()),
             fill: self.fill.map(|c| c.info()),
         }
     }
@@ -119,9 +122,10 @@ pub fn run(models: &Models, p: Plan, req: Request, now_ms: &dyn Fn() -> f64) -> 
                 .then(|| lock_feet(&mut m, &r.template, &req.keys, &FootLock::default()));
             Ok(one_stage(m, feet))
         }
-        Pipeline::Cond | Pipeline::Fill => {
+        Pipeline::Cond | Pipeline::CondDna | Pipeline::Fill => {
             let c = match p.pipeline {
                 Pipeline::Fill => models.fill.ok_or_else(|| missing("gap-filling network"))?,
+                Pipeline::CondDna => models.cond_dna.ok_or_else(|| missing("DNA network"))?,
                 _ => models.cond.ok_or_else(|| missing("conditional network"))?,
             };
             let (mut m, critical_frames) = c.synthesize_dna(

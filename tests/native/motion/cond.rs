@@ -704,3 +704,104 @@ fn root_keys_go_where_the_manifest_says() {
     let xy = run(&cli, "xy");
     assert!(xy.contains("pipeline generator"), "{xy}");
 }
+
+/// The DNA network as a second file (`tween_cond_dna`, beside a
+/// conditional network without DNA): `--method cond` runs it for requests
+/// with Motion DNA, `--method model` only when its manifest says
+/// `default_for_dna`, and a manifest without `dna` under that name is an
+/// error. The small random network with a DNA input stands in for it.
+#[test]
+fn the_cli_runs_the_dna_network_for_requests_with_dna() {
+    let models = root().join("models/onnx");
+    if !models.join("tween_generator.onnx").exists() || !models.join("tween_cond.onnx").exists() {
+        eprintln!("SKIP: models/onnx has no generator or conditional network");
+        return;
+    }
+    let fixture = root().join("tests/fixtures/cond_dna");
+    let m = CondModel::load_dir(&fixture).unwrap();
+    let tmp = std::env::temp_dir().join(format!("deeprep_cond_dna_{}", std::process::id()));
+    let dir = tmp.join("models");
+    std::fs::create_dir_all(&dir).unwrap();
+    for e in std::fs::read_dir(&models).unwrap() {
+        let e = e.unwrap();
+        if e.file_type().unwrap().is_file() {
+            std::fs::copy(e.path(), dir.join(e.file_name())).unwrap();
+        }
+    }
+    std::fs::copy(
+        fixture.join("tween_cond.onnx"),
+        dir.join("tween_cond_dna.onnx"),
+    )
+    .unwrap();
+    let manifest = std::fs::read_to_string(fixture.join("tween_cond.manifest.json")).unwrap();
+    let set = |key: &str, value: bool| {
+        let mut v: serde_json::Value = serde_json::from_str(&manifest).unwrap();
+        v[key] = serde_json::Value::Bool(value);
+        std::fs::write(
+            dir.join("tween_cond_dna.manifest.json"),
+            serde_json::to_string(&v).unwrap(),
+        )
+        .unwrap();
+    };
+    let mut clip = m.template.clone();
+    let c = clip.channel_count();
+    clip.motion = (0..200 * c)
+        .map(|i| match i % c {
+            0 => (i / c) as f32 * 0.5,
+            1 => 90.0,
+            k if k > 5 => ((i / c) as f32 / 20.0 + k as f32).sin() * 10.0,
+            _ => 0.0,
+        })
+        .collect();
+    let clip_path = tmp.join("clip.bvh");
+    std::fs::write(&clip_path, clip.write()).unwrap();
+    let out = tmp.join("out.bvh");
+    let run = |method: &str, dna: bool| {
+        let mut args = vec![
+            "inbetween",
+            "--from-bvh",
+            clip_path.to_str().unwrap(),
+            "--keys",
+            "0,60,120",
+            "--key-kind",
+            "root",
+            "--method",
+            method,
+            "--models",
+            dir.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        if dna {
+            args.extend(["--dna", "30,90"]);
+        }
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_deeprep"))
+            .args(&args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr).to_string();
+        (o.status.success(), err)
+    };
+    let ran = |method: &str, dna: bool| {
+        let (ok, err) = run(method, dna);
+        assert!(ok, "{method}: {err}");
+        err.split("pipeline ")
+            .nth(1)
+            .and_then(|s| s.split(' ').next())
+            .unwrap_or_else(|| panic!("{method}: no pipeline in {err}"))
+            .to_string()
+    };
+    set("default_for_dna", false);
+    assert_eq!(ran("cond", true), "cond-dna");
+    assert_eq!(ran("cond", false), "cond");
+    assert_eq!(ran("model", true), "generator");
+    set("default_for_dna", true);
+    assert_eq!(ran("model", true), "cond-dna");
+    set("dna", false);
+    let (ok, err) = run("model", true);
+    assert!(
+        !ok && err.contains("tween_cond_dna") && err.contains("dna"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&tmp).ok();
+}

@@ -348,6 +348,7 @@ fn the_cli_runs_what_the_planner_plans() {
         cond: Some(
             deeprep::motion::cond::info_of_manifest(&read("tween_cond.manifest.json")).unwrap(),
         ),
+        cond_dna: None,
         fill: None,
     };
     let tmp = std::env::temp_dir().join(format!("deeprep_cli_plan_{}", std::process::id()));

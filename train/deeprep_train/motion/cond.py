@@ -1025,6 +1025,7 @@ def export(args):
         "default_for_partial_keys": bool(args.default_for_partial_keys),
         "default_for_long_gaps": bool(args.default_for_long_gaps),
         "default_for_root_keys": bool(args.default_for_root_keys),
+        "default_for_dna": bool(args.default_for_dna),
         "context_base": "hermite" if net.context_base else "slerp",
         "coarse_rates": net.coarse_rates,
         "dna": net.dna,
@@ -1186,6 +1187,9 @@ def main(argv=None):
     ap.add_argument("--default-for-root-keys", type=int, default=0,
                     help="export: 1 makes it the `model` method's network for root positions, alone or with whole "
                          "poses (manifest default_for_root_keys; motion::plan)")
+    ap.add_argument("--default-for-dna", type=int, default=0,
+                    help="export: 1 makes the `model` method send requests with Motion DNA to this network "
+                         "(export it --name tween_cond_dna, the DNA network; manifest default_for_dna; motion::plan)")
     ap.add_argument("--default-for-partial-keys", type=int, default=0,
                     help="export: 1 makes the manifest name this network the `model` method's for root-only and "
                          "2-D keys (only after it beat the generator by the rule in train/notes/cond.md)")

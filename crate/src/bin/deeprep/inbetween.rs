@@ -154,6 +154,12 @@ fn loaded(o: &Opts) -> Result<deeprep::motion::plan::Loaded, String> {
         generator,
         residual,
         cond: cond_info("tween_cond.manifest.json")?,
+        cond_dna: match cond_info("tween_cond_dna.manifest.json")? {
+            Some(d) if !d.dna => {
+                return Err("tween_cond_dna.manifest.json: the DNA network's manifest does not say dna (it was trained without Motion DNA)".into())
+            }
+            d => d,
+        },
         fill: cond_info("tween_fill.manifest.json")?,
     })
 }
@@ -195,6 +201,10 @@ fn synthesize(
         .then(|| CondModel::load_named(dir, "tween_cond"))
         .transpose()
         .map_err(|e| e.to_string())?;
+    let cond_dna = runs(Pipeline::CondDna)
+        .then(|| CondModel::load_named(dir, "tween_cond_dna"))
+        .transpose()
+        .map_err(|e| e.to_string())?;
     let fill = runs(Pipeline::Fill)
         .then(|| CondModel::load_named(dir, "tween_fill"))
         .transpose()
@@ -203,6 +213,7 @@ fn synthesize(
         generator: generator.as_ref(),
         residual: residual.as_ref(),
         cond: cond.as_ref(),
+        cond_dna: cond_dna.as_ref(),
         fill: fill.as_ref(),
     };
     let start = std::time::Instant::now();
@@ -222,7 +233,7 @@ fn synthesize(
                 e[0], e[1], e[2], e[3], t[0], t[1], t[2], t[3]
             );
         }
-        Pipeline::Cond | Pipeline::Fill => {
+        Pipeline::Cond | Pipeline::CondDna | Pipeline::Fill => {
             let e = s.key_error;
             info += &format!(
                 "; key error before post-processing: root {:.3}, joints {:.3}; after: root {:.3}, joints {:.3}; stages ms: network {:.1}, post {:.1}",

@@ -41,11 +41,12 @@ const USAGE: &str = "usage:
       --method residual: the supervised residual on SLERP+LERP (models/onnx/tween_residual.onnx;
       --variation scales its correction; default: its manifest's); --method generator: the
       Generative Tweening generator and path predictor (any key kind, DNA); --method cond: the
-      conditional network (models/onnx/tween_cond.onnx: whole-pose, root-only and 2-D keys, no
-      DNA); --method model (the default): the residual network where its manifest makes it the
-      default and every key is a whole pose without --dna or --no-post, else the conditional
-      network where its manifest makes it the default for partial keys and it takes them, the
-      generator otherwise
+      conditional network (models/onnx/tween_cond.onnx: whole-pose, root-only and 2-D keys; with
+      --dna the DNA network models/onnx/tween_cond_dna.onnx where present); --method model (the
+      default): the residual network where its manifest makes it the default and every key is a
+      whole pose without --dna or --no-post, else the conditional network where its manifest
+      makes it the default for partial keys and it takes them, with --dna the DNA network where
+      its manifest makes it the default for DNA, the generator otherwise
   deeprep inbetween --from-bvh CLIP.bvh --fill S-E [--fill S-E ...] [--context B[,A]] -o OUT.bvh
           [--method model|fill|residual|generator|cond|hermite|slerp|zerovel] [--models DIR]
       gaps in captured motion filled: frames S to E (inclusive) of CLIP synthesized from the

@@ -16,6 +16,7 @@ pub struct Inbetweener {
     inner: crate::motion::pipeline::TweenModels,
     residual: Option<crate::motion::residual::ResidualModel>,
     cond: Option<crate::motion::cond::CondModel>,
+    cond_dna: Option<crate::motion::cond::CondModel>,
     fill: Option<crate::motion::cond::CondModel>,
 }
 
@@ -215,6 +216,7 @@ impl Inbetweener {
                 .map_err(js_err)?,
             residual: None,
             cond: None,
+            cond_dna: None,
             fill: None,
         })
     }
@@ -229,7 +231,10 @@ impl Inbetweener {
         if let Some(r) = &self.residual {
             r.prepare_any_length().map_err(js_err)?;
         }
-        for c in [&self.cond, &self.fill].into_iter().flatten() {
+        for c in [&self.cond, &self.cond_dna, &self.fill]
+            .into_iter()
+            .flatten()
+        {
             c.prepare_any_length().map_err(js_err)?;
         }
         Ok(())
@@ -369,6 +374,28 @@ impl Inbetweener {
     #[wasm_bindgen(getter, js_name = hasCond)]
     pub fn has_cond(&self) -> bool {
         self.cond.is_some()
+    }
+
+    /// Adds the DNA network (the bytes of `tween_cond_dna.onnx` and its
+    /// manifest's text, a conditional network trained with Motion DNA):
+    /// method `cond` runs it for requests with DNA, and `model` too when its
+    /// manifest makes it the default for DNA (`default_for_dna`).
+    #[wasm_bindgen(js_name = setCondDna)]
+    pub fn set_cond_dna(&mut self, onnx: &[u8], manifest: &str) -> Result<(), JsError> {
+        let m = self.cond_model(onnx, manifest)?;
+        if !m.info().dna {
+            return Err(JsError::new(
+                "the DNA network's manifest does not say dna (it was trained without Motion DNA)",
+            ));
+        }
+        self.cond_dna = Some(m);
+        Ok(())
+    }
+
+    /// Whether [`Inbetweener::set_cond_dna`] has loaded the DNA network.
+    #[wasm_bindgen(getter, js_name = hasCondDna)]
+    pub fn has_cond_dna(&self) -> bool {
+        self.cond_dna.is_some()
     }
 
     /// Adds the gap-filling network (the bytes of `tween_fill.onnx` and its
@@ -541,6 +568,7 @@ impl Inbetweener {
             generator: Some(&self.inner),
             residual: self.residual.as_ref(),
             cond: self.cond.as_ref(),
+            cond_dna: self.cond_dna.as_ref(),
             fill: self.fill.as_ref(),
         }
     }
