@@ -151,8 +151,8 @@ whole-pose keys is one window ({ev['model@30']['windows']} windows at gap 30, {e
 | key error after post-processing | {KM} | {ka} |
 
 {MODEL_TEXT} "model with foot
-locking" adds `--foot-lock` (`crate/src/motion/feet.rs`), off by default
-since session 9: at the generator's default variation it raised L2P, NPSS and foot skating on
+locking" adds `--foot-lock` (`crate/src/motion/feet.rs`), off by default:
+at the generator's default variation it raised L2P, NPSS and foot skating on
 training takes. Variation 0 is SLERP+LERP exactly. The default variation and
 foot locking's settings were chosen on training takes (`motion/eval.py --split train`),
 not on these.
