@@ -31,7 +31,8 @@
 // position), by the conditional network (`cond`, issue 47: at most 150 ms at
 // 2,048 frames) and by the generator pipeline (`generator`, what `model` runs
 // for them while the conditional network is not the default), side by side in
-// the same reps through synthesizeRequest, as the npm worker sends them.
+// the same reps through synthesizeRequest, as the npm worker sends them; with
+// the DNA network in models/onnx, the same keys with Motion DNA too (`cond-dna`).
 // Prints JSON. Usage: node tests/web/bench_page.mjs [--smoke] [--candidate FILE]
 import { withBenchPage } from './chromium.mjs';
 
@@ -77,6 +78,11 @@ await withBenchPage(async (page) => {
     const withResidual = inbetweener(m, residual);
     const residualDefault = withResidual.residualIsDefault;
     withResidual.setCond(cond, condManifest);
+    // the DNA network, where the models folder has it (requests with Motion DNA)
+    const dnaFiles = await Promise.all(['onnx', 'manifest.json'].map((x) => fetch(`../models/onnx/tween_cond_dna.${x}`)));
+    if (dnaFiles.every((r) => r.ok)) {
+      withResidual.setCondDna(new Uint8Array(await dnaFiles[0].arrayBuffer()), await dnaFiles[1].text());
+    }
     const plainResidual = inbetweener(plain, residual);
     const cand = candidate ? inbetweener(m, await get(`../${candidate}`).catch((e) => {
       throw new Error(`--candidate ${e.message}`);
@@ -156,16 +162,21 @@ await withBenchPage(async (page) => {
       // root-only keys: the conditional network and the generator pipeline, alternately
       const rootKeys = frames.map((f, i) => ({ frame: f, root: Array.from(kc.subarray(i * (kc.length / frames.length), i * (kc.length / frames.length) + 3)) }));
       const partial = {};
-      for (const method of ['cond', 'generator']) {
-        const req = JSON.stringify({ frames: n, keys: rootKeys, method });
+      // with the DNA network: the same keys with Motion DNA (one pose per 180 frames), method 'cond'
+      const dna = Array.from({ length: Math.max(1, Math.floor(n / 180)) }, (_, i) => poses[(i + 1) % poses.length].channels);
+      const partialMethods = withResidual.hasCondDna ? ['cond', 'generator', 'cond-dna'] : ['cond', 'generator'];
+      const partialRequest = (method) => JSON.stringify(method === 'cond-dna'
+        ? { frames: n, keys: rootKeys, method: 'cond', dna } : { frames: n, keys: rootKeys, method });
+      for (const method of partialMethods) {
+        const req = partialRequest(method);
         t = performance.now();
         const r = withResidual.synthesizeRequest(req);
         partial[method] = { first_call_ms: performance.now() - t, ran: r.method, total_ms: Infinity };
         r.free();
       }
       for (let r = 0; r < reps; r++) {
-        for (const method of ['cond', 'generator']) {
-          const req = JSON.stringify({ frames: n, keys: rootKeys, method });
+        for (const method of partialMethods) {
+          const req = partialRequest(method);
           t = performance.now();
           withResidual.synthesizeRequest(req).free();
           partial[method].total_ms = Math.min(partial[method].total_ms, performance.now() - t);
