@@ -85,3 +85,24 @@ pub fn fixture_parity(name: &str, tol: f32) {
         assert!(diff <= tol, "{name}: any-shape plan vs onnxruntime {diff}");
     }
 }
+
+/// A 200-frame clip on `template` that walks along x at hip height 90 with
+/// every joint swinging (the CLI tests' `--from-bvh` input), written to
+/// `path` and returned.
+pub fn write_walking_clip(
+    template: &deeprep::skeleton::bvh::Bvh,
+    path: &std::path::Path,
+) -> deeprep::skeleton::bvh::Bvh {
+    let mut clip = template.clone();
+    let c = clip.channel_count();
+    clip.motion = (0..200 * c)
+        .map(|i| match i % c {
+            0 => (i / c) as f32 * 0.5,
+            1 => 90.0,
+            k if k > 5 => ((i / c) as f32 / 20.0 + k as f32).sin() * 10.0,
+            _ => 0.0,
+        })
+        .collect();
+    std::fs::write(path, clip.write()).unwrap();
+    clip
+}

@@ -743,18 +743,8 @@ fn the_cli_runs_the_dna_network_for_requests_with_dna() {
         )
         .unwrap();
     };
-    let mut clip = m.template.clone();
-    let c = clip.channel_count();
-    clip.motion = (0..200 * c)
-        .map(|i| match i % c {
-            0 => (i / c) as f32 * 0.5,
-            1 => 90.0,
-            k if k > 5 => ((i / c) as f32 / 20.0 + k as f32).sin() * 10.0,
-            _ => 0.0,
-        })
-        .collect();
     let clip_path = tmp.join("clip.bvh");
-    std::fs::write(&clip_path, clip.write()).unwrap();
+    crate::common::write_walking_clip(&m.template, &clip_path);
     let out = tmp.join("out.bvh");
     let run = |method: &str, dna: bool| {
         let mut args = vec![

@@ -353,18 +353,8 @@ fn the_cli_runs_what_the_planner_plans() {
     };
     let tmp = std::env::temp_dir().join(format!("deeprep_cli_plan_{}", std::process::id()));
     std::fs::create_dir_all(&tmp).unwrap();
-    let mut clip = m.template.clone();
-    let c = clip.channel_count();
-    clip.motion = (0..200 * c)
-        .map(|i| match i % c {
-            0 => (i / c) as f32 * 0.5,
-            1 => 90.0,
-            k if k > 5 => ((i / c) as f32 / 20.0 + k as f32).sin() * 10.0,
-            _ => 0.0,
-        })
-        .collect();
     let clip_path = tmp.join("clip.bvh");
-    std::fs::write(&clip_path, clip.write()).unwrap();
+    let clip = crate::common::write_walking_clip(&m.template, &clip_path);
     let keys = [0usize, 60, 120];
     for (kind, variation) in [
         ("pose", None),
