@@ -55,6 +55,24 @@ let condForLongGaps = false;
 let condForRootKeys = false;
 // whether it takes Motion DNA (its manifest's `dna`)
 let condDna = false;
+// the gap-filling network's manifest (issue 50) and the gap lengths the
+// `model` fill gives it ([fill_from, fill_up_to]; motion::fill::method_for)
+let fillManifest = null;
+let fillRange = null;
+
+/** Whether a fillGaps request runs the gap-filling network, so that it is
+ * loaded first: method 'fill', or 'model' with a gap whose length (frames
+ * inside it) is in its manifest's range. */
+function needsFill(msg) {
+  const method = msg.method || 'model';
+  if (method === 'fill') return true;
+  if (method !== 'model' || !fillRange || !Array.isArray(msg.gaps)) return false;
+  for (let i = 0; i + 1 < msg.gaps.length; i += 2) {
+    const len = msg.gaps[i + 1] + 1 - msg.gaps[i];
+    if (len >= fillRange[0] && len <= fillRange[1]) return true;
+  }
+  return false;
+}
 
 /** Whether the planner may run the conditional network for a `model`
  * request, so that it is loaded first: a gap over maxGap() frames when its
@@ -90,6 +108,7 @@ function modelUrls(base) {
     return { generator: at('tween_generator.onnx'), path: at('tween_path.onnx'), manifest: at('tween_generator.manifest.json'),
              residual: at('tween_residual.onnx'), residualManifest: at('tween_residual.manifest.json'),
              cond: at('tween_cond.onnx'), condManifest: at('tween_cond.manifest.json'),
+             fill: at('tween_fill.onnx'), fillManifest: at('tween_fill.manifest.json'),
              ik: at('ik.onnx'), ikManifest: at('ik.manifest.json') };
   }
   return {
@@ -100,6 +119,8 @@ function modelUrls(base) {
     residualManifest: new URL('./models/tween_residual.manifest.json', import.meta.url).href,
     cond: new URL('./models/tween_cond.onnx', import.meta.url).href,
     condManifest: new URL('./models/tween_cond.manifest.json', import.meta.url).href,
+    fill: new URL('./models/tween_fill.onnx', import.meta.url).href,
+    fillManifest: new URL('./models/tween_fill.manifest.json', import.meta.url).href,
     ik: new URL('./models/ik.onnx', import.meta.url).href,
     ikManifest: new URL('./models/ik.manifest.json', import.meta.url).href,
   };
@@ -187,6 +208,16 @@ async function handleInit(msg) {
       } catch { /* no manifest */ }
       if (isDefault) model.setCond(await fetchBytes(urls.cond), condManifest);
     }
+    // The gap-filling network (issue 50) on the first fillGaps that runs it (needsFill).
+    if (msg.models?.fill) {
+      model.setFill(new Uint8Array(msg.models.fill), msg.models.fillManifest);
+    } else {
+      fillManifest = await fetchText(urls.fillManifest).catch(() => null);
+      try {
+        const m = JSON.parse(fillManifest);
+        fillRange = [m.fill_from ?? 1, m.fill_up_to];
+      } catch { fillManifest = null; }
+    }
     // One plan for any length now, so the first synthesis of each length
     // does not wait for tract to optimize one (runtime::Model::prepare_any_shape),
     // then the code a request runs, so that the user's first is not the one
@@ -203,6 +234,7 @@ async function handleInit(msg) {
     postMessage({ type: 'result', id: msg.id, skeletonBvh: model.skeletonBvh, skeleton, hasModel: true,
                   hasResidual: model.hasResidual || residualManifest !== null,
                   hasCond: model.hasCond || condManifest !== null, condDna,
+                  hasFill: model.hasFill || fillManifest !== null,
                   defaultVariation: model.defaultVariation, wasm: wasmBuild });
     warmWhenIdle(WARM_UP_ROUNDS.whenIdle);
   } catch (e) {
@@ -368,6 +400,10 @@ onmessage = async (e) => {
     if (['synthesize', 'synthesizeFromBvh', 'fillGaps'].includes(msg.type) && wantsCond && model && !model.hasCond && condManifest) {
       postMessage({ type: 'progress', id: msg.id, stage: 'loading the conditional network', fraction: 0.05 });
       model.setCond(await fetchBytes(urls.cond), condManifest);
+    }
+    if (msg.type === 'fillGaps' && model && !model.hasFill && fillManifest && needsFill(msg)) {
+      postMessage({ type: 'progress', id: msg.id, stage: 'loading the gap-filling network', fraction: 0.05 });
+      model.setFill(await fetchBytes(urls.fill), fillManifest);
     }
     if (msg.type === 'init') await handleInit(msg);
     else if (msg.type === 'ik') await handleIk(msg);

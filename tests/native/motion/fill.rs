@@ -358,3 +358,59 @@ fn the_hermite_curve_matches_the_training_code() {
     }
     assert!(checked > 60, "{checked} frames compared");
 }
+
+/// The bundled gap-filling network (models/onnx/tween_fill.onnx): tract
+/// against onnxruntime on its fixture, and the `model` fill gives it the
+/// gap lengths its manifest claims (`fill_from`..=`fill_up_to`), the curve
+/// the shorter ones and the default network the longer ones.
+#[test]
+fn the_bundled_gap_filling_network_serves_its_band() {
+    let dir = root().join("models/onnx");
+    if models().is_none() || !dir.join("tween_fill.onnx").exists() {
+        eprintln!("SKIP: models/onnx/tween_fill.onnx is not bundled");
+        return;
+    }
+    crate::common::fixture_parity("tween_fill", 2e-4);
+    let manifest: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("tween_fill.manifest.json")).unwrap(),
+    )
+    .unwrap();
+    let from = manifest["fill_from"].as_u64().unwrap_or(1) as usize;
+    let up_to = manifest["fill_up_to"].as_u64().unwrap() as usize;
+    let tmp = std::env::temp_dir().join(format!("deeprep_fill_band_{}", std::process::id()));
+    std::fs::create_dir_all(&tmp).unwrap();
+    let input = tmp.join("in.bvh");
+    std::fs::write(&input, clip_text(400)).unwrap();
+    // gaps of fill_from and fill_up_to frames, one shorter, one longer
+    let gaps = [(40, from), (100, up_to), (200, from - 1), (280, up_to + 15)];
+    let specs: Vec<String> = gaps
+        .iter()
+        .map(|&(s, n)| format!("{s}-{}", s + n - 1))
+        .collect();
+    let out = tmp.join("out.bvh");
+    let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_deeprep"));
+    cmd.args(["inbetween", "--from-bvh", input.to_str().unwrap()]);
+    for s in &specs {
+        cmd.args(["--fill", s]);
+    }
+    let o = cmd
+        .args([
+            "-o",
+            out.to_str().unwrap(),
+            "--models",
+            dir.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    let info = String::from_utf8_lossy(&o.stderr).to_string();
+    assert!(o.status.success(), "{info}");
+    for (spec, want) in specs.iter().zip([
+        "pipeline fill",
+        "pipeline fill",
+        "a cubic Hermite curve",
+        "pipeline residual",
+    ]) {
+        assert!(info.contains(&format!("{spec}: {want}")), "{spec}: {info}");
+    }
+    std::fs::remove_dir_all(&tmp).ok();
+}
