@@ -8,7 +8,7 @@ export interface SynthesisResult {
    *  for the CLI: 'model' runs the residual network where its manifest makes it the default and
    *  the keys are whole poses without DNA, else the conditional network where its manifest makes
    *  it the default for partial keys and it reads them, else the generator. */
-  ran: 'residual' | 'cond' | 'fill' | 'generator' | 'slerp' | 'zerovel' | 'hermite';
+  ran: 'residual' | 'cond' | 'cond-dna' | 'fill' | 'generator' | 'slerp' | 'zerovel' | 'hermite';
   /** The variation it ran at: the request's, else the chosen pipeline's own default (0 for SLERP+LERP). */
   variation: number;
   /** BVH text, 60 fps, the model's skeleton; empty when the request said `bvh: false`. */
@@ -58,8 +58,9 @@ export interface SynthesisRequest {
    *  given, each steering the frames around its place. */
   dna?: number[] | Float32Array | number[][];
   /** 'residual': the supervised residual network (variation scales its correction; no DNA, post or foot locking).
-   *  'cond': the conditional network (whole poses, root positions and 2-D keys of every joint; DNA when
-   *  `condDna`). */
+   *  'cond': the conditional network (whole poses, root positions and 2-D keys of every joint); with DNA, the
+   *  DNA network when it is bundled (`condDna`; the result's `ran` is 'cond-dna'). 'model' (the default) sends
+   *  DNA to the DNA network too when its manifest says `default_for_dna`, else to the generator. */
   method?: 'model' | 'residual' | 'cond' | 'slerp';
   /** Share of the networks' departure from SLERP+LERP kept, in the pose and the
    *  root path, in [0, 2] (1: the networks as trained; 0: SLERP+LERP).
@@ -133,8 +134,9 @@ export class DeeprepClient {
   readonly hasResidual: boolean;
   /** Whether method `'cond'` (the conditional network for whole-pose, root-only and 2-D keys) is available. */
   readonly hasCond: boolean;
-  /** Whether the conditional network takes Motion DNA (`dna` with method `'cond'`; its manifest's `dna`):
-   *  when false, DNA with method `'cond'` is an error and method `'generator'` takes it. */
+  /** Whether method `'cond'` takes Motion DNA: the DNA network (`models/tween_cond_dna.onnx`, downloaded on
+   *  the first request with DNA it serves) is there, or the conditional network's manifest says `dna`.
+   *  When false, DNA with method `'cond'` is an error and method `'generator'` takes it. */
   readonly condDna: boolean;
   /** Whether the gap-filling network is bundled (`fillGaps` with method `'fill'`, and `'model'` on the gap
    *  lengths its manifest gives it; loaded on the first such call). */

@@ -111,7 +111,7 @@ export class DeeprepClient {
     c.hasModel = info.hasModel;
     c.hasResidual = info.hasResidual; // method 'residual' (the supervised residual network) is available
     c.hasCond = info.hasCond; // method 'cond' (the conditional network: whole-pose, root-only, 2-D keys) is available
-    c.condDna = info.condDna === true; // ... and it takes Motion DNA (`dna` with method 'cond')
+    c.condDna = info.condDna === true; // ... and it takes Motion DNA (`dna` with method 'cond': the DNA network, tween_cond_dna)
     c.hasFill = info.hasFill === true; // the gap-filling network (fillGaps' method 'fill', and 'model' on the gaps its manifest gives it)
     c.defaultVariation = info.defaultVariation;
     c.modelError = info.modelError;

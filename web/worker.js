@@ -55,6 +55,11 @@ let condForLongGaps = false;
 let condForRootKeys = false;
 // whether it takes Motion DNA (its manifest's `dna`)
 let condDna = false;
+// the DNA network (tween_cond_dna: a conditional network trained with Motion
+// DNA, for requests with DNA), loaded on the first request with DNA that it
+// serves: method 'cond', or 'model' when its manifest says default_for_dna
+let condDnaManifest = null;
+let condDnaForModel = false;
 // the gap-filling network's manifest (issue 50) and the gap lengths the
 // `model` fill gives it ([fill_from, fill_up_to]; motion::fill::method_for)
 let fillManifest = null;
@@ -72,6 +77,17 @@ function needsFill(msg) {
     if (len >= fillRange[0] && len <= fillRange[1]) return true;
   }
   return false;
+}
+
+/** Whether a request gives Motion DNA (flat channels or pose rows). */
+function hasDna(msg) {
+  return msg.type === 'synthesize' && msg.dna != null && msg.dna.length > 0;
+}
+
+/** Whether the planner may run the DNA network for `msg`, so that it is loaded first. */
+function needsCondDna(msg) {
+  const method = msg.method ?? 'model';
+  return hasDna(msg) && (method === 'cond' || (method === 'model' && condDnaForModel));
 }
 
 /** Whether the planner may run the conditional network for a `model`
@@ -108,6 +124,7 @@ function modelUrls(base) {
     return { generator: at('tween_generator.onnx'), path: at('tween_path.onnx'), manifest: at('tween_generator.manifest.json'),
              residual: at('tween_residual.onnx'), residualManifest: at('tween_residual.manifest.json'),
              cond: at('tween_cond.onnx'), condManifest: at('tween_cond.manifest.json'),
+             condDna: at('tween_cond_dna.onnx'), condDnaManifest: at('tween_cond_dna.manifest.json'),
              fill: at('tween_fill.onnx'), fillManifest: at('tween_fill.manifest.json'),
              ik: at('ik.onnx'), ikManifest: at('ik.manifest.json') };
   }
@@ -119,6 +136,8 @@ function modelUrls(base) {
     residualManifest: new URL('./models/tween_residual.manifest.json', import.meta.url).href,
     cond: new URL('./models/tween_cond.onnx', import.meta.url).href,
     condManifest: new URL('./models/tween_cond.manifest.json', import.meta.url).href,
+    condDna: new URL('./models/tween_cond_dna.onnx', import.meta.url).href,
+    condDnaManifest: new URL('./models/tween_cond_dna.manifest.json', import.meta.url).href,
     fill: new URL('./models/tween_fill.onnx', import.meta.url).href,
     fillManifest: new URL('./models/tween_fill.manifest.json', import.meta.url).href,
     ik: new URL('./models/ik.onnx', import.meta.url).href,
@@ -208,6 +227,15 @@ async function handleInit(msg) {
       } catch { /* no manifest */ }
       if (isDefault) model.setCond(await fetchBytes(urls.cond), condManifest);
     }
+    // The DNA network: its manifest now (a small file), its weights on the
+    // first request with DNA that it serves (needsCondDna)
+    if (msg.models?.condDna) {
+      model.setCondDna(new Uint8Array(msg.models.condDna), msg.models.condDnaManifest);
+      try { condDnaForModel = JSON.parse(msg.models.condDnaManifest)?.default_for_dna === true; } catch { /* setCondDna checked it */ }
+    } else {
+      condDnaManifest = await fetchText(urls.condDnaManifest).catch(() => null);
+      try { condDnaForModel = JSON.parse(condDnaManifest)?.default_for_dna === true; } catch { condDnaManifest = null; }
+    }
     // The gap-filling network (issue 50) on the first fillGaps that runs it (needsFill).
     if (msg.models?.fill) {
       model.setFill(new Uint8Array(msg.models.fill), msg.models.fillManifest);
@@ -233,7 +261,8 @@ async function handleInit(msg) {
     skel.free();
     postMessage({ type: 'result', id: msg.id, skeletonBvh: model.skeletonBvh, skeleton, hasModel: true,
                   hasResidual: model.hasResidual || residualManifest !== null,
-                  hasCond: model.hasCond || condManifest !== null, condDna,
+                  hasCond: model.hasCond || condManifest !== null,
+                  condDna: condDna || model.hasCondDna || condDnaManifest !== null,
                   hasFill: model.hasFill || fillManifest !== null,
                   defaultVariation: model.defaultVariation, wasm: wasmBuild });
     warmWhenIdle(WARM_UP_ROUNDS.whenIdle);
@@ -400,6 +429,10 @@ onmessage = async (e) => {
     if (['synthesize', 'synthesizeFromBvh', 'fillGaps'].includes(msg.type) && wantsCond && model && !model.hasCond && condManifest) {
       postMessage({ type: 'progress', id: msg.id, stage: 'loading the conditional network', fraction: 0.05 });
       model.setCond(await fetchBytes(urls.cond), condManifest);
+    }
+    if (needsCondDna(msg) && model && !model.hasCondDna && condDnaManifest) {
+      postMessage({ type: 'progress', id: msg.id, stage: 'loading the Motion DNA network', fraction: 0.05 });
+      model.setCondDna(await fetchBytes(urls.condDna), condDnaManifest);
     }
     if (msg.type === 'fillGaps' && model && !model.hasFill && fillManifest && needsFill(msg)) {
       postMessage({ type: 'progress', id: msg.id, stage: 'loading the gap-filling network', fraction: 0.05 });

@@ -28,7 +28,7 @@ export function dnaChannels(seed = Number($('seed').value), { fallbackToPool = f
   return Array.from(dnaFramesOfPool(state.library.length, state.length, seed)).flatMap((i) => state.library[i].channels);
 }
 
-const METHOD_NAMES = { slerp: 'SLERP+LERP interpolation baseline', residual: 'supervised residual network', cond: 'conditional network' };
+const METHOD_NAMES = { slerp: 'SLERP+LERP interpolation baseline', residual: 'supervised residual network', cond: 'conditional network', 'cond-dna': 'conditional network with Motion DNA' };
 
 /** The page's request for `keys` with `dna` (flat channels), in the form the worker takes. */
 function request(keys, length, method, dna) {
@@ -72,8 +72,8 @@ export async function compareSeeds() {
     let d = 0;
     for (let i = 0; i < a.length; i += 3) d += Math.hypot(a[i] - b[i], a[i + 1] - b[i + 1], a[i + 2] - b[i + 2]);
     const mean = d / (a.length / 3);
-    state.ghost = { positions: r.positions, frames: r.frames, seed, meanDistance: mean };
-    $('seed-note').textContent = `seed ${seed} overlaid (pink): mean joint distance to seed ${seed - 1}'s motion ${mean.toFixed(2)} units`
+    state.ghost = { positions: r.positions, frames: r.frames, seed, meanDistance: mean, ran: r.ran };
+    $('seed-note').textContent = `seed ${seed} overlaid (pink; ${METHOD_NAMES[r.ran] || 'Generative Tweening model'}): mean joint distance to seed ${seed - 1}'s motion ${mean.toFixed(2)} units`
       + (mean < 1 ? (m === 'cond' ? ' — the bundled conditional network barely uses its noise (README)' : ' — the bundled generator barely uses its DNA (README: Motion DNA measured)') : '');
     document.body.dataset.compared = String(seed);
     draw();

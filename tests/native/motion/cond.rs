@@ -64,6 +64,24 @@ fn tract_matches_onnxruntime_on_the_conditional_network() {
     common::fixture_parity("tween_cond", 2e-4);
 }
 
+/// The bundled DNA network (`tween_cond_dna`, for requests with Motion DNA):
+/// tract against onnxruntime on its fixture, and its manifest takes DNA.
+#[test]
+fn tract_matches_onnxruntime_on_the_dna_network() {
+    let dir = root().join("models/onnx");
+    if !dir.join("tween_cond_dna.onnx").exists() {
+        eprintln!("SKIP: models/onnx/tween_cond_dna.onnx is not bundled");
+        return;
+    }
+    assert!(
+        CondModel::load_named(&dir, "tween_cond_dna")
+            .unwrap()
+            .info()
+            .dna
+    );
+    common::fixture_parity("tween_cond_dna", 2e-4);
+}
+
 /// Every case of the fixture: the same motion as cond.py's features and
 /// apply with the same network, within float32 noise through a network
 /// (6D and root in units of the output's size); the last case is a coarse
