@@ -240,6 +240,21 @@ pub struct CondInfo {
     pub dna: bool,
 }
 
+impl CondInfo {
+    /// This network as the DNA network (`tween_cond_dna`, for requests with
+    /// Motion DNA): an error unless its manifest says `dna`.
+    pub fn as_dna_network(self) -> Result<Self> {
+        if self.dna {
+            Ok(self)
+        } else {
+            Err(Error::Invalid(
+                "the DNA network's manifest does not say dna (it was trained without Motion DNA)"
+                    .into(),
+            ))
+        }
+    }
+}
+
 /// What the request planner needs of a conditional network's manifest text
 /// (without loading the network).
 pub fn info_of_manifest(json: &str) -> Result<CondInfo> {

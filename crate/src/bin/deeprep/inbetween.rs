@@ -154,12 +154,10 @@ fn loaded(o: &Opts) -> Result<deeprep::motion::plan::Loaded, String> {
         generator,
         residual,
         cond: cond_info("tween_cond.manifest.json")?,
-        cond_dna: match cond_info("tween_cond_dna.manifest.json")? {
-            Some(d) if !d.dna => {
-                return Err("tween_cond_dna.manifest.json: the DNA network's manifest does not say dna (it was trained without Motion DNA)".into())
-            }
-            d => d,
-        },
+        cond_dna: cond_info("tween_cond_dna.manifest.json")?
+            .map(|d| d.as_dna_network())
+            .transpose()
+            .map_err(|e| format!("tween_cond_dna.manifest.json: {e}"))?,
         fill: cond_info("tween_fill.manifest.json")?,
     })
 }

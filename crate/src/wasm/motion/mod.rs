@@ -383,11 +383,7 @@ impl Inbetweener {
     #[wasm_bindgen(js_name = setCondDna)]
     pub fn set_cond_dna(&mut self, onnx: &[u8], manifest: &str) -> Result<(), JsError> {
         let m = self.cond_model(onnx, manifest)?;
-        if !m.info().dna {
-            return Err(JsError::new(
-                "the DNA network's manifest does not say dna (it was trained without Motion DNA)",
-            ));
-        }
+        m.info().as_dna_network().map_err(js_err)?;
         self.cond_dna = Some(m);
         Ok(())
     }
