@@ -131,3 +131,16 @@ def test_prune_keeps_the_channels_that_carry_the_output_skip_included(residual, 
     x = torch.randn(1, 3 + 6 * 2 + 4, 41)
     with torch.no_grad():
         assert torch.allclose(narrow(x), wide(x), atol=1e-5)
+
+
+def test_fill_layouts_keep_twenty_context_frames_and_gaps_in_range(residual):
+    # residual train --fill-share and cond train --fill-share draw one layout (issue 50)
+    import numpy as np
+    rng = np.random.default_rng(1)
+    for law in ("log", "inverse"):
+        for _ in range(200):
+            keys = residual.fill_keys(480, rng, (40, 120), law)
+            gaps = np.diff(keys) - 1  # unknown frames between consecutive keys
+            assert keys[:20] == list(range(20)) and keys[-1] == 479
+            inner = gaps[(gaps > 0)][:-1]  # the last gap may be cut by the window's end
+            assert inner.size == 0 or (inner.min() >= 39 and inner.max() <= 120)

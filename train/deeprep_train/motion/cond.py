@@ -72,7 +72,7 @@ from deeprep_train.motion.eval import npss
 from deeprep_train.motion import dna as dna_rule
 from deeprep_train.motion.residual import (
     GATE_FRAMES, PHASE_FRAMES, SCALE, Clips, ResidualTween, Skeleton, arch, fk, from_sixd, key_phase, l2p_sd,
-    mirror, quat_to_mat, rot_y, sample_keys, sixd, slerp, supervised, upsample2)
+    mirror, quat_to_mat, rot_y, sample_keys, fill_keys, sixd, slerp, supervised, upsample2)
 from deeprep_train.motion.residual_adv import quat_mul
 
 OUT = os.path.join(CACHE, "cond")
@@ -260,32 +260,6 @@ def sample_kinds(keys, rng):
     if r < 0.75:
         return [X] * len(keys)
     return [int(c) for c in rng.choice([P, R, X], size=len(keys), p=[0.3, 0.4, 0.3])]
-
-
-def fill_keys(n, rng, gaps=(10, 180), law="log"):
-    """Every known frame of a window with gaps to fill (issue 50: captured
-    motion repaired from the frames around each gap): runs of consecutive
-    known frames (20, or 1-40 frames: one known frame after a gap up to the
-    next gap's context) between gaps of `gaps` = (lo, hi) frames; the
-    window starts with 20 known frames and ends with a known frame. `law`
-    "log": gap lengths log-uniform (so the frames in gaps spread evenly over
-    the lengths); "inverse": density 1/L^2 (the frames in gaps log-uniform
-    over the lengths: as many in gaps of 8-16 frames as of 16-32)."""
-    keys, t = list(range(min(20, n))), min(20, n)
-    while t < n:
-        if law == "inverse":
-            t += int(1.0 / rng.uniform(1.0 / gaps[1], 1.0 / gaps[0]))
-        else:
-            t += int(math.exp(rng.uniform(math.log(gaps[0]), math.log(gaps[1]))))
-        if t >= n - 1:
-            keys.append(n - 1)
-            break
-        run = 20 if rng.random() < 0.5 else int(rng.integers(1, 41))
-        keys.extend(range(t, min(t + run, n)))
-        t += run
-    if keys[-1] != n - 1:
-        keys.append(n - 1)
-    return keys
 
 
 def prior_pose(clips):

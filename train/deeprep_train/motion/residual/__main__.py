@@ -56,6 +56,13 @@ def main():
     ap.add_argument("--regular-keys", type=float, default=0.0,
                     help="train: the share of windows whose keys are evenly spaced (one interval drawn and repeated; "
                          "the rest draw each interval)")
+    ap.add_argument("--fill-share", type=float, default=0.0,
+                    help="train: the share of windows laid out as gaps in captured motion (issue 50: every context "
+                         "frame a key, gaps of --fill-gaps frames; data.fill_keys)")
+    ap.add_argument("--fill-gaps", type=lambda v: tuple(int(x) for x in v.split(",")), default=(10, 180),
+                    help="LO,HI: the gap lengths of --fill-share's windows")
+    ap.add_argument("--fill-law", choices=["log", "inverse"], default="log",
+                    help="the law of --fill-share's gap lengths (data.fill_keys)")
     ap.add_argument("--gan-min-gap", type=int, default=0,
                     help="train: the adversarial loss's gradient skips frames of intervals shorter than this "
                          "(frames); the supervised terms alone train them (issue 19: the adversary cost L2P at gap 30)")

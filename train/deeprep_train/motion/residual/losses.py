@@ -5,17 +5,20 @@ Part of deeprep_train.motion.residual (see its package docstring)."""
 import torch
 
 from deeprep_train.motion.residual_adv import cross_clip
-from deeprep_train.motion.residual.data import PHASE_FRAMES, SCALE, features, mirror, sample_keys, sixd
+from deeprep_train.motion.residual.data import PHASE_FRAMES, SCALE, features, fill_keys, mirror, sample_keys, sixd
 from deeprep_train.motion.residual.net import apply, fk
 
 
 # ---------------------------------------------------------------- training
 
-def make_batch(clips, skel, b, n, rng, do_mirror, cross_p=0.0, regular=0.0):
+def make_batch(clips, skel, b, n, rng, do_mirror, cross_p=0.0, regular=0.0, fill_share=0.0, fill_gaps=(10, 180),
+               fill_law="log"):
     """b windows of n frames with random keys: the stacked features and
     offsets, the key lists, and which windows have a ground truth (False
     where `cross_p` spliced in keys from another clip, residual_adv.cross_clip;
-    a cross-clip window keeps the first window's offsets)."""
+    a cross-clip window keeps the first window's offsets). A `fill_share` of
+    the windows are laid out as gaps in captured motion (data.fill_keys: every
+    context frame a key, gaps of `fill_gaps` frames; issue 50), never cross-clip."""
     br, bq, gr, gq, ph, gt, offs, keysets, sup = [], [], [], [], [], [], [], [], []
     for _ in range(b):
         root, quat = clips.window(n, rng)
@@ -23,9 +26,10 @@ def make_batch(clips, skel, b, n, rng, do_mirror, cross_p=0.0, regular=0.0):
         if do_mirror and rng.random() < 0.5:
             root, quat = mirror(root, quat, skel)
             off = skel.mirror_offsets
-        keys = sample_keys(n, rng, regular=regular)
+        gap_fill = fill_share > 0 and rng.random() < fill_share
+        keys = fill_keys(n, rng, fill_gaps, fill_law) if gap_fill else sample_keys(n, rng, regular=regular)
         spliced = False
-        if cross_p > 0:
+        if cross_p > 0 and not gap_fill:
             root_b, quat_b = clips.window(n, rng)
             root, quat, spliced = cross_clip(root, quat, root_b, quat_b, keys, rng, cross_p)
         f = features(root, quat, keys)

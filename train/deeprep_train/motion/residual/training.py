@@ -86,7 +86,8 @@ def train(args):
     adv = Adversary(len(skel.parents), args.lr_d, dev) if args.gan_weight > 0 else None
 
     def draw():
-        return make_batch(clips, skel, args.batch, args.frames, rng, args.mirror, args.cross_clip, args.regular_keys)
+        return make_batch(clips, skel, args.batch, args.frames, rng, args.mirror, args.cross_clip, args.regular_keys,
+                          args.fill_share, args.fill_gaps, args.fill_law)
 
     if adv is not None and not (s is not None and adv.load(s)):
         # no discriminator yet: train one against the network as it is first
