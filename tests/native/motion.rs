@@ -308,6 +308,7 @@ fn the_residual_model_keeps_keys_and_scales_by_variation() {
         cond: None,
         cond_dna: None,
         fill: None,
+        fill_long: None,
     };
     let model = |keys: &[Keyframe], dna: bool| {
         let ask = Ask {

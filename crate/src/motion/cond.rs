@@ -172,22 +172,8 @@ impl Manifest {
     /// The gap lengths the `model` fill gives a gap-filling network:
     /// `fill_from..=fill_up_to`, checked.
     fn fill_gaps(&self) -> Result<Option<(usize, usize)>> {
-        match (self.fill_from, self.fill_up_to) {
-            (None, None) => Ok(None),
-            (from, Some(hi)) => {
-                let lo = from.unwrap_or(1);
-                if lo == 0 || lo > hi {
-                    return Err(Error::Invalid(format!(
-                        "conditional network manifest: fill_from {lo} and fill_up_to {hi} \
-                         must satisfy 1 <= fill_from <= fill_up_to"
-                    )));
-                }
-                Ok(Some((lo, hi)))
-            }
-            (Some(_), None) => Err(Error::Invalid(
-                "conditional network manifest: fill_from without fill_up_to".into(),
-            )),
-        }
+        crate::motion::fill::band(self.fill_from, self.fill_up_to)
+            .map_err(|e| Error::Invalid(format!("conditional network manifest: {e}")))
     }
 }
 

@@ -86,14 +86,46 @@ pub const DEFAULT_CONTEXT: Context = Context {
 /// the curve through the context's velocities is the better fill.
 pub const HERMITE_MAX_GAP: usize = 45;
 
+/// The gap lengths a gap-filling network's manifest gives it
+/// (`fill_from..=fill_up_to`, `fill_from` 1 when absent), checked; `None`
+/// when it names none.
+pub fn band(from: Option<usize>, up_to: Option<usize>) -> Result<Option<(usize, usize)>> {
+    match (from, up_to) {
+        (None, None) => Ok(None),
+        (from, Some(hi)) => {
+            let lo = from.unwrap_or(1);
+            if lo == 0 || lo > hi {
+                return Err(Error::Invalid(format!(
+                    "fill_from {lo} and fill_up_to {hi} must satisfy 1 <= fill_from <= fill_up_to"
+                )));
+            }
+            Ok(Some((lo, hi)))
+        }
+        (Some(_), None) => Err(Error::Invalid("fill_from without fill_up_to".into())),
+    }
+}
+
+/// The loaded gap-filling networks' bands, as [`method_for`] reads them:
+/// `fill` (`tween_fill`, the conditional network's line) and `fill-long`
+/// (`tween_fill_long`, the residual network fine-tuned on long gaps).
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub struct Bands {
+    /// `fill`'s band, when it is loaded and its manifest gives one.
+    pub fill: Option<(usize, usize)>,
+    /// `fill-long`'s band, likewise.
+    pub fill_long: Option<(usize, usize)>,
+}
+
 /// What fills a gap of `len` frames when `method` is asked: "model" is the
-/// gap-filling network where one is loaded and the gap's length is in the
-/// range its manifest gives it (`fill_gaps`: `fill_from..=fill_up_to`),
+/// gap-filling network whose band (its manifest's `fill_from..=fill_up_to`)
+/// holds the gap's length where one is loaded ("fill", then "fill-long"),
 /// else "hermite" up to [`HERMITE_MAX_GAP`] frames and the networks'
 /// default beyond; every other method is itself.
-pub fn method_for(method: &str, len: usize, fill_gaps: Option<(usize, usize)>) -> &str {
+pub fn method_for(method: &str, len: usize, bands: Bands) -> &str {
+    let holds = |b: Option<(usize, usize)>| b.is_some_and(|(lo, hi)| (lo..=hi).contains(&len));
     match method {
-        "model" if fill_gaps.is_some_and(|(lo, hi)| (lo..=hi).contains(&len)) => "fill",
+        "model" if holds(bands.fill) => "fill",
+        "model" if holds(bands.fill_long) => "fill-long",
         "model" if len <= HERMITE_MAX_GAP => "hermite",
         _ => method,
     }
@@ -423,19 +455,45 @@ mod tests {
 
     #[test]
     fn the_model_fill_chooses_by_gap_length() {
-        assert_eq!(method_for("model", 10, None), "hermite");
-        assert_eq!(method_for("model", HERMITE_MAX_GAP + 1, None), "model");
+        let none = Bands::default();
+        let fill = |b| Bands {
+            fill: Some(b),
+            fill_long: None,
+        };
+        assert_eq!(method_for("model", 10, none), "hermite");
+        assert_eq!(method_for("model", HERMITE_MAX_GAP + 1, none), "model");
         // a gap-filling network takes the gaps its manifest claims
-        assert_eq!(method_for("model", 10, Some((1, 45))), "fill");
-        assert_eq!(method_for("model", 45, Some((1, 45))), "fill");
-        assert_eq!(method_for("model", 46, Some((1, 45))), "model");
-        assert_eq!(method_for("model", 120, Some((1, 180))), "fill");
+        assert_eq!(method_for("model", 10, fill((1, 45))), "fill");
+        assert_eq!(method_for("model", 45, fill((1, 45))), "fill");
+        assert_eq!(method_for("model", 46, fill((1, 45))), "model");
+        assert_eq!(method_for("model", 120, fill((1, 180))), "fill");
         // below its range: the curve, as without it
-        assert_eq!(method_for("model", 20, Some((21, 45))), "hermite");
-        assert_eq!(method_for("model", 21, Some((21, 45))), "fill");
+        assert_eq!(method_for("model", 20, fill((21, 45))), "hermite");
+        assert_eq!(method_for("model", 21, fill((21, 45))), "fill");
+        // the long-gap network beside it takes its own band, the residual
+        // network what is left beyond both
+        let both = Bands {
+            fill: Some((25, 45)),
+            fill_long: Some((46, 120)),
+        };
+        assert_eq!(method_for("model", 24, both), "hermite");
+        assert_eq!(method_for("model", 45, both), "fill");
+        assert_eq!(method_for("model", 46, both), "fill-long");
+        assert_eq!(method_for("model", 120, both), "fill-long");
+        assert_eq!(method_for("model", 121, both), "model");
         // a named method is itself
-        assert_eq!(method_for("hermite", 500, Some((1, 45))), "hermite");
-        assert_eq!(method_for("residual", 10, Some((1, 45))), "residual");
+        assert_eq!(method_for("hermite", 500, both), "hermite");
+        assert_eq!(method_for("residual", 60, both), "residual");
+    }
+
+    #[test]
+    fn a_band_is_checked() {
+        assert_eq!(band(None, None).unwrap(), None);
+        assert_eq!(band(None, Some(45)).unwrap(), Some((1, 45)));
+        assert_eq!(band(Some(46), Some(120)).unwrap(), Some((46, 120)));
+        for (from, up_to) in [(Some(0), Some(4)), (Some(50), Some(40)), (Some(3), None)] {
+            assert!(band(from, up_to).is_err(), "{from:?} {up_to:?}");
+        }
     }
 
     #[test]

@@ -32,7 +32,8 @@
 //! - `fill`: the gap-filling network (a conditional network trained on
 //!   gaps in captured motion, `tween_fill`), whole-pose keys only; the
 //!   `model` fill ([`super::fill::method_for`]) sends it the gaps its
-//!   manifest claims.
+//!   manifest claims. `fill-long`: the long-gap filling network (the
+//!   residual network fine-tuned on gaps, `tween_fill_long`), likewise.
 //! - `slerp`, `zerovel`: the interpolation baselines (variation 0).
 //!
 //! The variation is the request's when it gives one, else the chosen
@@ -56,6 +57,9 @@ pub enum Pipeline {
     CondDna,
     /// The gap-filling network (whole-pose keys around gaps).
     Fill,
+    /// The long-gap filling network (a residual network; whole-pose keys
+    /// around gaps).
+    FillLong,
     /// The generator, RC-FK, path predictor and post-processing (Fig. 5.1).
     Generator,
     /// SLERP+LERP interpolation.
@@ -66,13 +70,14 @@ pub enum Pipeline {
 
 impl Pipeline {
     /// The name results and messages carry: "residual", "generator",
-    /// "slerp", "zerovel", "cond", "cond-dna" or "fill".
+    /// "slerp", "zerovel", "cond", "cond-dna", "fill" or "fill-long".
     pub fn name(self) -> &'static str {
         match self {
             Pipeline::Residual => "residual",
             Pipeline::Cond => "cond",
             Pipeline::CondDna => "cond-dna",
             Pipeline::Fill => "fill",
+            Pipeline::FillLong => "fill-long",
             Pipeline::Generator => "generator",
             Pipeline::Slerp => "slerp",
             Pipeline::ZeroVelocity => "zerovel",
@@ -81,12 +86,13 @@ impl Pipeline {
 }
 
 /// The methods a request may name.
-pub const METHODS: [&str; 7] = [
+pub const METHODS: [&str; 8] = [
     "model",
     "generator",
     "residual",
     "cond",
     "fill",
+    "fill-long",
     "slerp",
     "zerovel",
 ];
@@ -106,6 +112,8 @@ pub struct Loaded {
     pub cond_dna: Option<CondInfo>,
     /// The gap-filling network, when loaded.
     pub fill: Option<CondInfo>,
+    /// The long-gap filling network, when loaded.
+    pub fill_long: Option<ResidualInfo>,
 }
 
 /// The residual network's manifest, as the planner needs it.
@@ -115,12 +123,14 @@ pub struct ResidualInfo {
     pub variation: f32,
     /// Whether the `model` method runs it for the keys it takes.
     pub default_for_whole_pose_keys: bool,
+    /// A gap-filling network's band (`fill_from..=fill_up_to`).
+    pub fill_gaps: Option<(usize, usize)>,
 }
 
 /// A request, as the planner needs it.
 #[derive(Copy, Clone, Debug)]
 pub struct Ask<'a> {
-    /// `model`, `generator`, `residual`, `cond`, `fill`, `slerp` or `zerovel`.
+    /// `model`, `generator`, `residual`, `cond`, `fill`, `fill-long`, `slerp` or `zerovel`.
     pub method: &'a str,
     /// The keys.
     pub keys: &'a [Keyframe],
@@ -235,17 +245,28 @@ pub fn plan(ask: &Ask, loaded: &Loaded) -> Result<Plan> {
             }
             chosen(Pipeline::Cond, c.variation)
         }
-        "fill" => {
-            let f = loaded
-                .fill
-                .ok_or_else(|| Error::Invalid("the gap-filling network is not loaded".into()))?;
+        "fill" | "fill-long" => {
+            let network = match ask.method {
+                "fill" => loaded.fill.map(|f| (Pipeline::Fill, f.variation)),
+                _ => loaded.fill_long.map(|f| (Pipeline::FillLong, f.variation)),
+            };
+            let (pipeline, variation) = network.ok_or_else(|| {
+                Error::Invalid(format!(
+                    "the {} network is not loaded",
+                    match ask.method {
+                        "fill" => "gap-filling",
+                        _ => "long-gap filling",
+                    }
+                ))
+            })?;
             if !residual_takes(ask.keys, ask.dna) || !ask.post_process {
                 return Err(Error::Invalid(format!(
-                    "method fill takes whole-pose keys (the frames around a gap) without Motion DNA, \
-                     no two more than {MAX_GAP} frames apart, and keeps them exact"
+                    "method {} takes whole-pose keys (the frames around a gap) without Motion DNA, \
+                     no two more than {MAX_GAP} frames apart, and keeps them exact",
+                    ask.method
                 )));
             }
-            chosen(Pipeline::Fill, f.variation)
+            chosen(pipeline, variation)
         }
         "slerp" => chosen(Pipeline::Slerp, 0.0),
         "zerovel" => chosen(Pipeline::ZeroVelocity, 0.0),
@@ -280,10 +301,12 @@ mod tests {
         residual: Some(ResidualInfo {
             variation: 1.0,
             default_for_whole_pose_keys: true,
+            fill_gaps: None,
         }),
         cond: None,
         cond_dna: None,
         fill: None,
+        fill_long: None,
     };
 
     fn ask<'a>(method: &'a str, keys: &'a [Keyframe]) -> Ask<'a> {
@@ -331,6 +354,7 @@ mod tests {
             residual: Some(ResidualInfo {
                 variation: 1.0,
                 default_for_whole_pose_keys: false,
+                fill_gaps: None,
             }),
             ..LOADED
         };
@@ -398,6 +422,7 @@ mod tests {
             cond: None,
             cond_dna: None,
             fill: None,
+            fill_long: None,
         };
         assert!(plan(&ask("residual", &poses), &none).is_err());
         assert!(plan(&ask("model", &poses), &none).is_err());
@@ -720,5 +745,38 @@ mod tests {
             ..ask("fill", &poses)
         };
         assert!(plan(&raw, &with_fill).is_err());
+    }
+
+    #[test]
+    fn the_fill_long_method_runs_the_long_gap_network_on_whole_poses_only() {
+        let with_long = Loaded {
+            fill_long: Some(ResidualInfo {
+                variation: 1.0,
+                default_for_whole_pose_keys: false,
+                fill_gaps: Some((46, 120)),
+            }),
+            ..LOADED
+        };
+        let poses = [pose(0), pose(1), pose(90)];
+        let p = plan(&ask("fill-long", &poses), &with_long).unwrap();
+        assert_eq!((p.pipeline, p.variation), (Pipeline::FillLong, 1.0));
+        assert_eq!(p.pipeline.name(), "fill-long");
+        // `model` never plans it: the fill chooses it by gap length
+        let p = plan(&ask("model", &poses), &with_long).unwrap();
+        assert_eq!(p.pipeline, Pipeline::Residual);
+        let e = plan(&ask("fill-long", &poses), &LOADED)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("long-gap filling network is not loaded"), "{e}");
+        let roots = [root(0), root(60)];
+        let e = plan(&ask("fill-long", &roots), &with_long)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("method fill-long takes whole-pose keys"), "{e}");
+        let dna = Ask {
+            dna: true,
+            ..ask("fill-long", &poses)
+        };
+        assert!(plan(&dna, &with_long).is_err());
     }
 }

@@ -36,11 +36,25 @@ struct Manifest {
     /// (set when it beat the generator on training takes).
     #[serde(default)]
     default_for_whole_pose_keys: bool,
+    /// A gap-filling network's (`tween_fill_long`: this network fine-tuned
+    /// on gaps in captured motion): the shortest and longest gap the
+    /// `model` fill gives it ([`crate::motion::fill::method_for`]).
+    #[serde(default)]
+    fill_from: Option<usize>,
+    #[serde(default)]
+    fill_up_to: Option<usize>,
+}
+
+impl Manifest {
+    fn fill_gaps(&self) -> Result<Option<(usize, usize)>> {
+        crate::motion::fill::band(self.fill_from, self.fill_up_to)
+            .map_err(|e| Error::Invalid(format!("residual manifest: {e}")))
+    }
 }
 
 /// What the request planner needs of a residual manifest's text (without
-/// loading the network): its default variation and whether `model` runs it
-/// for whole-pose keys.
+/// loading the network): its default variation, whether `model` runs it
+/// for whole-pose keys and, for a gap-filling network, its band.
 pub fn info_of_manifest(json: &str) -> Result<super::plan::ResidualInfo> {
     let m: Manifest = serde_json::from_str(json)
         .map_err(|e| Error::Invalid(format!("residual manifest: {e}")))?;
@@ -50,6 +64,7 @@ pub fn info_of_manifest(json: &str) -> Result<super::plan::ResidualInfo> {
     Ok(super::plan::ResidualInfo {
         variation,
         default_for_whole_pose_keys: m.default_for_whole_pose_keys,
+        fill_gaps: m.fill_gaps()?,
     })
 }
 
@@ -67,6 +82,8 @@ pub struct ResidualModel {
     /// every key is a whole pose and no Motion DNA is given (the manifest
     /// says so when it beat the generator on training takes).
     pub default_for_whole_pose_keys: bool,
+    /// A gap-filling network's band (its manifest's `fill_from..=fill_up_to`).
+    pub fill_gaps: Option<(usize, usize)>,
 }
 
 pub(super) type V3 = [f64; 3];
@@ -158,6 +175,7 @@ impl ResidualModel {
                 "residual manifest: variation {default_variation} is outside [0, 2]"
             )));
         }
+        let fill_gaps = m.fill_gaps()?;
         Ok(ResidualModel {
             net: Model::from_onnx_bytes(onnx)?,
             template,
@@ -166,15 +184,22 @@ impl ResidualModel {
             gate_frames: m.gate_frames,
             default_variation,
             default_for_whole_pose_keys: m.default_for_whole_pose_keys,
+            fill_gaps,
         })
     }
 
     /// Loads `tween_residual.onnx` and its manifest from a folder.
     pub fn load_dir(dir: &std::path::Path) -> Result<Self> {
+        Self::load_named(dir, "tween_residual")
+    }
+
+    /// Loads `NAME.onnx` and `NAME.manifest.json` from a folder (the
+    /// long-gap filling network is `tween_fill_long`).
+    pub fn load_named(dir: &std::path::Path, name: &str) -> Result<Self> {
         let read = |n: &str| crate::runtime::read_file(dir, n);
-        let manifest = String::from_utf8(read("tween_residual.manifest.json")?)
+        let manifest = String::from_utf8(read(&format!("{name}.manifest.json"))?)
             .map_err(|e| Error::Invalid(e.to_string()))?;
-        Self::new(&read("tween_residual.onnx")?, &manifest)
+        Self::new(&read(&format!("{name}.onnx"))?, &manifest)
     }
 
     /// Prepares the network for requests of any length
@@ -207,6 +232,7 @@ impl ResidualModel {
         super::plan::ResidualInfo {
             variation: self.default_variation,
             default_for_whole_pose_keys: self.default_for_whole_pose_keys,
+            fill_gaps: self.fill_gaps,
         }
     }
 

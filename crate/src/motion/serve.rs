@@ -23,6 +23,8 @@ pub struct Models<'a> {
     pub cond_dna: Option<&'a CondModel>,
     /// The gap-filling network (a conditional network trained on gaps).
     pub fill: Option<&'a CondModel>,
+    /// The long-gap filling network (a residual network trained on gaps).
+    pub fill_long: Option<&'a ResidualModel>,
 }
 
 impl Models<'_> {
@@ -34,6 +36,7 @@ impl Models<'_> {
             cond: self.cond.map(|c| c.info()),
             cond_dna: self.cond_dna.map(|c| c.info()),
             fill: self.fill.map(|c| c.info()),
+            fill_long: self.fill_long.map(|r| r.info()),
         }
     }
 }
@@ -41,7 +44,7 @@ impl Models<'_> {
 /// A request in the form every front-end reads.
 #[derive(Clone, Debug)]
 pub struct Request {
-    /// `model`, `generator`, `residual`, `cond`, `fill`, `slerp` or `zerovel`.
+    /// `model`, `generator`, `residual`, `cond`, `fill`, `fill-long`, `slerp` or `zerovel`.
     pub method: String,
     /// The keys.
     pub keys: Vec<Keyframe>,
@@ -115,8 +118,13 @@ pub fn run(models: &Models, p: Plan, req: Request, now_ms: &dyn Fn() -> f64) -> 
         feet,
     };
     match p.pipeline {
-        Pipeline::Residual => {
-            let r = models.residual.ok_or_else(|| missing("residual network"))?;
+        Pipeline::Residual | Pipeline::FillLong => {
+            let r = match p.pipeline {
+                Pipeline::FillLong => models
+                    .fill_long
+                    .ok_or_else(|| missing("long-gap filling network"))?,
+                _ => models.residual.ok_or_else(|| missing("residual network"))?,
+            };
             let mut m = r.synthesize(&req.keys, req.frames, p.variation)?;
             let feet = (req.foot_lock && req.post_process)
                 .then(|| lock_feet(&mut m, &r.template, &req.keys, &FootLock::default()));

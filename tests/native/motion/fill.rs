@@ -223,6 +223,87 @@ fn a_gap_filling_network_takes_the_gaps_its_manifest_claims() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// A long-gap filling network (`tween_fill_long.onnx`: a residual network
+/// with `fill_from` and `fill_up_to` in its manifest) takes the `model`
+/// fill's gaps in its band, beside the other gap-filling network's, and
+/// `--method fill-long` names it. The stand-in is the bundled residual
+/// network itself under that name, so on its gap the `model` fill must
+/// write what `--method residual` writes, line for line; a manifest whose
+/// band is reversed is a clear error.
+#[test]
+fn a_long_gap_filling_network_takes_the_gaps_its_manifest_claims() {
+    if models().is_none() {
+        return;
+    }
+    let (dir, lib) = models_copy("filllong");
+    let src = root().join("models/onnx");
+    std::fs::copy(
+        src.join("tween_residual.onnx"),
+        lib.join("tween_fill_long.onnx"),
+    )
+    .unwrap();
+    let mut manifest: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(src.join("tween_residual.manifest.json")).unwrap(),
+    )
+    .unwrap();
+    manifest["name"] = "tween_fill_long".into();
+    manifest["default_for_whole_pose_keys"] = false.into();
+    manifest["fill_from"] = 50.into();
+    manifest["fill_up_to"] = 70.into();
+    let write = |m: &serde_json::Value| {
+        std::fs::write(lib.join("tween_fill_long.manifest.json"), m.to_string()).unwrap()
+    };
+    write(&manifest);
+    let input = dir.join("in.bvh");
+    std::fs::write(&input, clip_text(300)).unwrap();
+    let fill_with = |method: &str| {
+        let out = dir.join(format!("{method}.bvh"));
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_deeprep"))
+            .args(["inbetween", "--from-bvh", input.to_str().unwrap()])
+            .args(["--fill", "30-89", "--fill", "150-229"])
+            .args(["--method", method])
+            .args([
+                "-o",
+                out.to_str().unwrap(),
+                "--models",
+                lib.to_str().unwrap(),
+            ])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr).to_string();
+        (
+            o.status.success(),
+            std::fs::read_to_string(&out).unwrap_or_default(),
+            err,
+        )
+    };
+    let (ok, model, info) = fill_with("model");
+    assert!(ok, "{info}");
+    assert!(
+        info.contains("30-89: pipeline fill-long") && info.contains("150-229: pipeline residual"),
+        "{info}"
+    );
+    let (ok, residual, info) = fill_with("residual");
+    assert!(ok && info.contains("30-89: pipeline residual"), "{info}");
+    let (ok, _, info) = fill_with("fill-long");
+    assert!(ok && info.contains("150-229: pipeline fill-long"), "{info}");
+    let rows = |t: &str, frames: std::ops::RangeInclusive<usize>| -> Vec<String> {
+        let first = t.lines().position(|l| l.starts_with("Frame Time")).unwrap() + 1;
+        frames
+            .map(|f| t.lines().nth(first + f).unwrap().to_string())
+            .collect()
+    };
+    assert_eq!(rows(&model, 30..=89), rows(&residual, 30..=89));
+    manifest["fill_from"] = 80.into();
+    write(&manifest);
+    let (ok, _, err) = fill_with("model");
+    assert!(
+        !ok && err.contains("tween_fill_long.manifest.json") && err.contains("fill_from 80"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 /// On motion a cubic can hold (the root at constant velocity, every joint
 /// at a constant angular rate about a fixed axis), the Hermite curve with
 /// the context's tangents gives the motion back.

@@ -350,6 +350,7 @@ fn the_cli_runs_what_the_planner_plans() {
         ),
         cond_dna: None,
         fill: None,
+        fill_long: None,
     };
     let tmp = std::env::temp_dir().join(format!("deeprep_cli_plan_{}", std::process::id()));
     std::fs::create_dir_all(&tmp).unwrap();

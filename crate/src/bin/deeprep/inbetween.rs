@@ -136,11 +136,14 @@ fn loaded(o: &Opts) -> Result<deeprep::motion::plan::Loaded, String> {
         ),
         None => None,
     };
-    let residual = match read("tween_residual.manifest.json")? {
-        Some(t) => {
-            Some(deeprep::motion::residual::info_of_manifest(&t).map_err(|e| e.to_string())?)
+    let residual_info = |name: &str| -> Result<_, String> {
+        match read(name)? {
+            Some(t) => Ok(Some(
+                deeprep::motion::residual::info_of_manifest(&t)
+                    .map_err(|e| format!("{name}: {e}"))?,
+            )),
+            None => Ok(None),
         }
-        None => None,
     };
     let cond_info = |name: &str| -> Result<_, String> {
         match read(name)? {
@@ -152,13 +155,14 @@ fn loaded(o: &Opts) -> Result<deeprep::motion::plan::Loaded, String> {
     };
     Ok(deeprep::motion::plan::Loaded {
         generator,
-        residual,
+        residual: residual_info("tween_residual.manifest.json")?,
         cond: cond_info("tween_cond.manifest.json")?,
         cond_dna: cond_info("tween_cond_dna.manifest.json")?
             .map(|d| d.as_dna_network())
             .transpose()
             .map_err(|e| format!("tween_cond_dna.manifest.json: {e}"))?,
         fill: cond_info("tween_fill.manifest.json")?,
+        fill_long: residual_info("tween_fill_long.manifest.json")?,
     })
 }
 
@@ -207,12 +211,17 @@ fn synthesize(
         .then(|| CondModel::load_named(dir, "tween_fill"))
         .transpose()
         .map_err(|e| e.to_string())?;
+    let fill_long = runs(Pipeline::FillLong)
+        .then(|| ResidualModel::load_named(dir, "tween_fill_long"))
+        .transpose()
+        .map_err(|e| e.to_string())?;
     let models = Models {
         generator: generator.as_ref(),
         residual: residual.as_ref(),
         cond: cond.as_ref(),
         cond_dna: cond_dna.as_ref(),
         fill: fill.as_ref(),
+        fill_long: fill_long.as_ref(),
     };
     let start = std::time::Instant::now();
     let clock = move || start.elapsed().as_secs_f64() * 1000.0;
@@ -319,7 +328,10 @@ fn dna_poses(
 
 /// Whether `--method` runs a network (which reads the model's skeleton only).
 fn uses_network(method: &str) -> bool {
-    matches!(method, "model" | "generator" | "residual" | "cond" | "fill")
+    matches!(
+        method,
+        "model" | "generator" | "residual" | "cond" | "fill" | "fill-long"
+    )
 }
 
 /// The networks' skeleton (the generator's manifest; the residual
@@ -351,9 +363,13 @@ fn fill(
         None => fill::DEFAULT_CONTEXT,
     };
     let mut info: Vec<String> = Vec::new();
-    let fill_gaps = loaded(o)?.fill.and_then(|f| f.fill_gaps);
+    let l = loaded(o)?;
+    let bands = fill::Bands {
+        fill: l.fill.and_then(|f| f.fill_gaps),
+        fill_long: l.fill_long.and_then(|f| f.fill_gaps),
+    };
     let filled = fill::fill(b, &gaps, ctx, &mut |clip, ck, gap| {
-        let method = fill::method_for(&o.method, gap.len(), fill_gaps);
+        let method = fill::method_for(&o.method, gap.len(), bands);
         if method == "hermite" {
             info.push(format!(
                 "{}-{}: a cubic Hermite curve with the context's tangents",

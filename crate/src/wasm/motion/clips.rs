@@ -73,11 +73,11 @@ impl Inbetweener {
     /// `[start, end]` frame pairs of the clip; each gap's frames are
     /// synthesized from `before` frames before it and `after` after it
     /// (whole-pose keys; the defaults 20 and 1), by `method` ("model",
-    /// "fill", "residual", "generator", "cond", "slerp", "zerovel" or
-    /// "hermite"; `model` is the gap-filling network on the gaps its
-    /// manifest gives it when `setFill` loaded one, else the Hermite curve
-    /// up to 45 frames and the default network beyond); every other frame
-    /// is returned exactly as it was.
+    /// "fill", "fill-long", "residual", "generator", "cond", "slerp",
+    /// "zerovel" or "hermite"; `model` is a gap-filling network on the gaps
+    /// its manifest gives it when `setFill` / `setFillLong` loaded one,
+    /// else the Hermite curve up to 45 frames and the default network
+    /// beyond); every other frame is returned exactly as it was.
     #[wasm_bindgen(js_name = fillGaps)]
     pub fn fill_gaps(
         &self,
@@ -106,7 +106,10 @@ impl Inbetweener {
             after.unwrap_or(fill::DEFAULT_CONTEXT.after as u32)
         ))
         .map_err(js_err)?;
-        let network = matches!(method, "model" | "residual" | "generator" | "cond" | "fill");
+        let network = matches!(
+            method,
+            "model" | "residual" | "generator" | "cond" | "fill" | "fill-long"
+        );
         let on_model = if network {
             Some(clip::OnModel::new(&user, &self.inner.template).map_err(js_err)?)
         } else {
@@ -115,9 +118,12 @@ impl Inbetweener {
         let b = on_model.as_ref().map_or(&user, |m| &m.clip);
         let mut plan = None;
         let mut stage_ms = [0.0; 4];
-        let fill_gaps = self.fill.as_ref().and_then(|f| f.info().fill_gaps);
+        let bands = fill::Bands {
+            fill: self.fill.as_ref().and_then(|f| f.info().fill_gaps),
+            fill_long: self.fill_long.as_ref().and_then(|f| f.fill_gaps),
+        };
         let filled = fill::fill(b, &gaps, ctx, &mut |c, ck, gap| {
-            let method = fill::method_for(method, gap.len(), fill_gaps);
+            let method = fill::method_for(method, gap.len(), bands);
             if method == "hermite" {
                 return fill::hermite(c, ck);
             }

@@ -18,6 +18,7 @@ pub struct Inbetweener {
     cond: Option<crate::motion::cond::CondModel>,
     cond_dna: Option<crate::motion::cond::CondModel>,
     fill: Option<crate::motion::cond::CondModel>,
+    fill_long: Option<crate::motion::residual::ResidualModel>,
 }
 
 /// One synthesized motion.
@@ -218,6 +219,7 @@ impl Inbetweener {
             cond: None,
             cond_dna: None,
             fill: None,
+            fill_long: None,
         })
     }
 
@@ -228,7 +230,7 @@ impl Inbetweener {
     #[wasm_bindgen(js_name = prepareAnyLength)]
     pub fn prepare_any_length(&self) -> Result<(), JsError> {
         self.inner.prepare_any_length().map_err(js_err)?;
-        if let Some(r) = &self.residual {
+        for r in [&self.residual, &self.fill_long].into_iter().flatten() {
             r.prepare_any_length().map_err(js_err)?;
         }
         for c in [&self.cond, &self.cond_dna, &self.fill]
@@ -345,10 +347,7 @@ impl Inbetweener {
     /// [`Inbetweener::residual`] runs.
     #[wasm_bindgen(js_name = setResidual)]
     pub fn set_residual(&mut self, onnx: &[u8], manifest: &str) -> Result<(), JsError> {
-        let m = crate::motion::residual::ResidualModel::new(onnx, manifest).map_err(js_err)?;
-        crate::motion::clip::check_skeleton(&m.template, &self.inner.template).map_err(js_err)?;
-        m.prepare_any_length().map_err(js_err)?;
-        self.residual = Some(m);
+        self.residual = Some(self.residual_model(onnx, manifest)?);
         Ok(())
     }
 
@@ -407,6 +406,28 @@ impl Inbetweener {
     #[wasm_bindgen(getter, js_name = hasFill)]
     pub fn has_fill(&self) -> bool {
         self.fill.is_some()
+    }
+
+    /// Adds the long-gap filling network (the bytes of `tween_fill_long.onnx`
+    /// and its manifest's text: a residual network trained on gaps in
+    /// captured motion): `fillGaps` runs it for method `fill-long`, and for
+    /// method `model` on the gaps its manifest gives it (`fill_from`..=`fill_up_to`).
+    #[wasm_bindgen(js_name = setFillLong)]
+    pub fn set_fill_long(&mut self, onnx: &[u8], manifest: &str) -> Result<(), JsError> {
+        let m = self.residual_model(onnx, manifest)?;
+        if m.fill_gaps.is_none() {
+            return Err(JsError::new(
+                "the long-gap filling network's manifest gives no band (fill_up_to)",
+            ));
+        }
+        self.fill_long = Some(m);
+        Ok(())
+    }
+
+    /// Whether [`Inbetweener::set_fill_long`] has loaded the long-gap filling network.
+    #[wasm_bindgen(getter, js_name = hasFillLong)]
+    pub fn has_fill_long(&self) -> bool {
+        self.fill_long.is_some()
     }
 
     /// Whether [`Inbetweener::set_residual`] has loaded the residual network.
@@ -545,6 +566,19 @@ impl Request {
 }
 
 impl Inbetweener {
+    /// A residual network (the whole-pose or the long-gap filling one) on
+    /// the model's skeleton, prepared for any length.
+    fn residual_model(
+        &self,
+        onnx: &[u8],
+        manifest: &str,
+    ) -> Result<crate::motion::residual::ResidualModel, JsError> {
+        let m = crate::motion::residual::ResidualModel::new(onnx, manifest).map_err(js_err)?;
+        crate::motion::clip::check_skeleton(&m.template, &self.inner.template).map_err(js_err)?;
+        m.prepare_any_length().map_err(js_err)?;
+        Ok(m)
+    }
+
     /// A conditional network (the conditional or the gap-filling one) on
     /// this model's skeleton, prepared for requests of any length.
     fn cond_model(
@@ -566,6 +600,7 @@ impl Inbetweener {
             cond: self.cond.as_ref(),
             cond_dna: self.cond_dna.as_ref(),
             fill: self.fill.as_ref(),
+            fill_long: self.fill_long.as_ref(),
         }
     }
 

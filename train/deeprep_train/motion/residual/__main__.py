@@ -56,6 +56,13 @@ def main():
     ap.add_argument("--regular-keys", type=float, default=0.0,
                     help="train: the share of windows whose keys are evenly spaced (one interval drawn and repeated; "
                          "the rest draw each interval)")
+    ap.add_argument("--name", default="tween_residual",
+                    help="export: the file's name (tween_fill_long: the long-gap filling network, with --fill-up-to)")
+    ap.add_argument("--fill-from", type=int, default=0,
+                    help="export: the shortest gap the `model` fill gives this network (its manifest's fill_from)")
+    ap.add_argument("--fill-up-to", type=int, default=0,
+                    help="export: the longest gap the `model` fill gives this network (fill_up_to; a gap-filling "
+                         "network, --name tween_fill_long)")
     ap.add_argument("--fill-share", type=float, default=0.0,
                     help="train: the share of windows laid out as gaps in captured motion (issue 50: every context "
                          "frame a key, gaps of --fill-gaps frames; data.fill_keys)")

@@ -14,7 +14,10 @@ from deeprep_train.motion.residual.net import arch, build, net_input
 
 def export(args):
     """models/onnx/tween_residual.onnx (the weights' moving average; input
-    [1, 3 + 6K + 4, N], N free), its manifest and a parity fixture."""
+    [1, 3 + 6K + 4, N], N free), its manifest and a parity fixture; with
+    --name tween_fill_long --fill-from A --fill-up-to B, the long-gap filling
+    network (the same network fine-tuned on gaps in captured motion, issue
+    50), which the `model` fill runs on gaps of A-B frames."""
     import onnxruntime as ort
     from deeprep_train.motion.export import fixture
     from deeprep_train.export.util import ONNX_DIR, git_commit, write_json
@@ -26,7 +29,17 @@ def export(args):
     skel = Skeleton(d)
     gen_manifest = json.load(open(os.path.join(ONNX_DIR, "tween_generator.manifest.json")))
     cin = 3 + 6 * skel.K + 4
-    path = os.path.join(ONNX_DIR, "tween_residual.onnx")
+    name = args.name
+    band = {}
+    if args.fill_up_to:
+        if not 1 <= (args.fill_from or 1) <= args.fill_up_to:
+            raise SystemExit("--fill-from needs --fill-up-to and 1 <= FROM <= UP_TO")
+        band = {"fill_from": args.fill_from or 1, "fill_up_to": args.fill_up_to}
+    elif args.fill_from:
+        raise SystemExit("--fill-from needs --fill-up-to")
+    if name != "tween_residual" and not band:
+        raise SystemExit(f"--name {name}: only a gap-filling network (--fill-up-to) is exported under another name")
+    path = os.path.join(ONNX_DIR, f"{name}.onnx")
     # the fixture's input: a real window's features (first training segment,
     # 65 frames, keys at 0, 30 and 64: an odd length, which a stride-2
     # network pads), so outputs are in their usual range
@@ -38,11 +51,18 @@ def export(args):
     with torch.no_grad():
         ref = net(x).numpy()
     sess = ort.InferenceSession(path, providers=["CPUExecutionProvider"])
-    parity = fixture("tween_residual", sess, {"x": x.numpy()}, ref)
-    write_json(os.path.join(ONNX_DIR, "tween_residual.manifest.json"), {
-        "name": "tween_residual",
+    parity = fixture(name, sess, {"x": x.numpy()}, ref)
+    description = ("a learned residual on SLERP+LERP in the first key's frame (train/deeprep_train/motion/residual.py; "
+                   "issue 19)")
+    if band:
+        description = (f"the residual network fine-tuned on gaps in captured motion, every context frame a key "
+                       f"(train/deeprep_train/motion/residual; issue 50): the `model` fill's network for gaps of "
+                       f"{band['fill_from']}-{band['fill_up_to']} frames")
+    write_json(os.path.join(ONNX_DIR, f"{name}.manifest.json"), {
+        "name": name,
         "kind": "residual-tween",
-        "description": "a learned residual on SLERP+LERP in the first key's frame (train/deeprep_train/motion/residual.py; issue 19)",
+        "description": description,
+        **band,
         "inputs": [{"name": "x", "shape": [1, cin, "frames"],
                     "channels": "root position in the first key's frame / scale (3), 6D of each joint with channels "
                                 "in file order, the root's in that frame (6K), then s, frames since the previous key / 60, "
@@ -60,7 +80,7 @@ def export(args):
         "exporter": {"torch": torch.__version__, "onnxruntime": ort.__version__, "opset": 17},
     })
     from deeprep_train.export.half_weights import convert
-    convert("tween_residual")  # the shipped file keeps its weights as float16 (issue 21)
+    convert(name)  # the shipped file keeps its weights as float16 (issue 21)
     print(f"exported {path} (step {s['step']}), parity {parity:.2e}")
 
 
