@@ -246,18 +246,26 @@ impl CondInfo {
 pub fn info_of_manifest(json: &str) -> Result<CondInfo> {
     let m: Manifest = serde_json::from_str(json)
         .map_err(|e| Error::Invalid(format!("conditional network manifest: {e}")))?;
-    let variation = m.variation.unwrap_or(1.0);
-    crate::motion::check_variation(variation)
-        .map_err(|e| Error::Invalid(format!("conditional network manifest: {e}")))?;
-    Ok(CondInfo {
-        variation,
-        default_for_partial_keys: m.default_for_partial_keys,
-        default_for_long_gaps: m.default_for_long_gaps,
-        default_for_root_keys: m.default_for_root_keys,
-        default_for_dna: m.default_for_dna,
-        fill_gaps: m.fill_gaps()?,
-        dna: m.dna,
-    })
+    m.info()
+}
+
+impl Manifest {
+    /// Its flags for the planner, checked: what both [`info_of_manifest`]
+    /// and a loaded network's `info()` give.
+    fn info(&self) -> Result<CondInfo> {
+        let variation = self.variation.unwrap_or(1.0);
+        crate::motion::check_variation(variation)
+            .map_err(|e| Error::Invalid(format!("conditional network manifest: {e}")))?;
+        Ok(CondInfo {
+            variation,
+            default_for_partial_keys: self.default_for_partial_keys,
+            default_for_long_gaps: self.default_for_long_gaps,
+            default_for_root_keys: self.default_for_root_keys,
+            default_for_dna: self.default_for_dna,
+            fill_gaps: self.fill_gaps()?,
+            dna: self.dna,
+        })
+    }
 }
 
 /// The longest gap between keys the network runs in one pass: the longest
@@ -298,18 +306,12 @@ mod model {
         phase_frames: f64,
         noise: usize,
         prior: Vec<Mat3<f64>>,
-        /// The variation a request without one runs at.
-        pub default_variation: f32,
-        /// Whether `method: model` runs it for root-only and 2-D keys.
-        pub default_for_partial_keys: bool,
-        default_for_long_gaps: bool,
-        default_for_root_keys: bool,
-        default_for_dna: bool,
+        /// Its manifest's flags for the planner (default variation, what
+        /// `model` runs it for, its fill band, whether it takes DNA).
+        info: CondInfo,
         /// Whether its base over gaps with context is the Hermite curve.
         context_base: bool,
-        fill_gaps: Option<(usize, usize)>,
         coarse_rates: bool,
-        dna: bool,
         dna_window: usize,
     }
 
@@ -402,9 +404,7 @@ mod model {
                     m.rotating.len()
                 )));
             }
-            let default_variation = m.variation.unwrap_or(1.0);
-            crate::motion::check_variation(default_variation).map_err(|e| bad(e.to_string()))?;
-            let fill_gaps = m.fill_gaps()?;
+            let info = m.info()?;
             let dna_window =
                 match (m.dna, m.dna_window) {
                     (false, _) => 0,
@@ -446,15 +446,9 @@ mod model {
                 phase_frames: m.phase_frames,
                 noise: m.noise_channels,
                 prior,
-                default_variation,
-                default_for_partial_keys: m.default_for_partial_keys,
-                default_for_long_gaps: m.default_for_long_gaps,
-                default_for_root_keys: m.default_for_root_keys,
-                default_for_dna: m.default_for_dna,
+                info,
                 context_base,
-                fill_gaps,
                 coarse_rates: m.coarse_rates,
-                dna: m.dna,
                 dna_window,
             })
         }
@@ -481,15 +475,7 @@ mod model {
 
         /// What the request planner needs of this network.
         pub fn info(&self) -> CondInfo {
-            CondInfo {
-                variation: self.default_variation,
-                default_for_partial_keys: self.default_for_partial_keys,
-                default_for_long_gaps: self.default_for_long_gaps,
-                default_for_root_keys: self.default_for_root_keys,
-                default_for_dna: self.default_for_dna,
-                fill_gaps: self.fill_gaps,
-                dna: self.dna,
-            }
+            self.info
         }
 
         /// Over each gap with context ([`context_spans`]), the base root
@@ -695,7 +681,7 @@ mod model {
             let p = 3 * self.template.joints.len();
             match dna {
                 None => Ok(None),
-                Some(_) if !self.dna => Err(Error::Invalid(
+                Some(_) if !self.info.dna => Err(Error::Invalid(
                     "this conditional network takes no Motion DNA (its manifest does not say dna); \
                      method generator does"
                         .into(),
@@ -717,7 +703,7 @@ mod model {
             dna: Option<&DnaPoses>,
             frames: usize,
         ) -> Result<Option<(TensorF32, TensorF32)>> {
-            if !self.dna {
+            if !self.info.dna {
                 return Ok(None);
             }
             let p = 3 * self.template.joints.len();
