@@ -631,17 +631,7 @@ mod model {
                     if c >= coarse_frames || t <= a || t >= b {
                         continue;
                     }
-                    let root = rough.root[c];
-                    let rel = rough.local_positions(c, &self.parents, &self.offsets);
-                    let mut positions: Vec<f32> =
-                        rel.iter().flat_map(|p| p.map(|v| v as f32)).collect();
-                    positions[..3].copy_from_slice(&root.map(|v| v as f32));
-                    all.push(Keyframe {
-                        frame: t,
-                        mask: vec![true; positions.len()],
-                        positions,
-                        rotations: Some(rough.rotations[c].clone()),
-                    });
+                    all.push(rough.key_at(c, t, &self.parents, &self.offsets));
                     critical.push(t);
                 }
             }

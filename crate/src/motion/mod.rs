@@ -337,6 +337,27 @@ impl Motion {
         (rot, pos)
     }
 
+    /// Frame `f` as a whole-pose key placed at `frame` (its root, every
+    /// joint's position relative to the root and its local rotations), on a
+    /// skeleton given by parents and offsets.
+    pub fn key_at(
+        &self,
+        f: usize,
+        frame: usize,
+        parents: &[Option<usize>],
+        offsets: &[[f64; 3]],
+    ) -> Keyframe {
+        let rel = self.local_positions(f, parents, offsets);
+        let mut positions: Vec<f32> = rel.iter().flat_map(|p| p.map(|v| v as f32)).collect();
+        positions[..3].copy_from_slice(&self.root[f].map(|v| v as f32));
+        Keyframe {
+            frame,
+            mask: vec![true; positions.len()],
+            positions,
+            rotations: Some(self.rotations[f].clone()),
+        }
+    }
+
     /// Local joint positions (root at 0, world orientation) of one frame on
     /// a skeleton given by parents and offsets.
     pub fn local_positions(

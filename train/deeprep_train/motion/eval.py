@@ -74,9 +74,6 @@ FIXED_ARGS = {
     "cond-root": ["--method", "cond", "--key-kind", "root"],
     "cond-xy": ["--method", "cond", "--key-kind", "xy"],
     "cond-pose": ["--method", "cond", "--key-kind", "pose"],
-    # the conditional network's poses at the keys, then the residual network through them
-    "lift-root": ["--method", "cond-lift", "--key-kind", "root"],
-    "lift-xy": ["--method", "cond-lift", "--key-kind", "xy"],
 }
 
 
