@@ -417,27 +417,38 @@ function handle(msg) {
   }
 }
 
+/** The networks that load on first use: each one's manifest was fetched at
+ * init (null where the models folder lacks it), its weights are fetched
+ * before the first request that runs it (`runs`), with a progress stage. */
+function lazyNetworks() {
+  return [
+    { name: 'the residual network', has: () => model.hasResidual, manifest: residualManifest, url: urls.residual,
+      set: (b, m) => model.setResidual(b, m), runs: (msg) => msg.type === 'synthesize' && msg.method === 'residual' },
+    { name: 'the conditional network', has: () => model.hasCond, manifest: condManifest, url: urls.cond,
+      set: (b, m) => model.setCond(b, m),
+      runs: (msg) => ['synthesize', 'synthesizeFromBvh', 'fillGaps'].includes(msg.type) && (msg.method === 'cond' || needsCond(msg)) },
+    { name: 'the Motion DNA network', has: () => model.hasCondDna, manifest: condDnaManifest, url: urls.condDna,
+      set: (b, m) => model.setCondDna(b, m), runs: needsCondDna },
+    { name: 'the gap-filling network', has: () => model.hasFill, manifest: fillManifest, url: urls.fill,
+      set: (b, m) => model.setFill(b, m), runs: (msg) => msg.type === 'fillGaps' && needsFill(msg) },
+  ];
+}
+
+/** Fetches and loads every lazy network `msg` runs that is not loaded yet. */
+async function loadWhatRuns(msg) {
+  for (const n of lazyNetworks()) {
+    if (n.manifest && !n.has() && n.runs(msg)) {
+      postMessage({ type: 'progress', id: msg.id, stage: `loading ${n.name}`, fraction: 0.05 });
+      n.set(await fetchBytes(n.url), n.manifest);
+    }
+  }
+}
+
 onmessage = async (e) => {
   const msg = e.data;
   if (msg.type !== 'init') requestCount++;
   try {
-    if (msg.type === 'synthesize' && msg.method === 'residual' && model && !model.hasResidual && residualManifest) {
-      postMessage({ type: 'progress', id: msg.id, stage: 'loading the residual network', fraction: 0.05 });
-      model.setResidual(await fetchBytes(urls.residual), residualManifest);
-    }
-    const wantsCond = msg.method === 'cond' || needsCond(msg);
-    if (['synthesize', 'synthesizeFromBvh', 'fillGaps'].includes(msg.type) && wantsCond && model && !model.hasCond && condManifest) {
-      postMessage({ type: 'progress', id: msg.id, stage: 'loading the conditional network', fraction: 0.05 });
-      model.setCond(await fetchBytes(urls.cond), condManifest);
-    }
-    if (needsCondDna(msg) && model && !model.hasCondDna && condDnaManifest) {
-      postMessage({ type: 'progress', id: msg.id, stage: 'loading the Motion DNA network', fraction: 0.05 });
-      model.setCondDna(await fetchBytes(urls.condDna), condDnaManifest);
-    }
-    if (msg.type === 'fillGaps' && model && !model.hasFill && fillManifest && needsFill(msg)) {
-      postMessage({ type: 'progress', id: msg.id, stage: 'loading the gap-filling network', fraction: 0.05 });
-      model.setFill(await fetchBytes(urls.fill), fillManifest);
-    }
+    if (model) await loadWhatRuns(msg);
     if (msg.type === 'init') await handleInit(msg);
     else if (msg.type === 'ik') await handleIk(msg);
     else handle(msg);
