@@ -48,6 +48,46 @@ pub(crate) fn clip_text(frames: usize) -> String {
     s
 }
 
+/// `deeprep inbetween --from-bvh INPUT --fill G ... --method METHOD` with the
+/// models of `lib`, written to `DIR/METHOD.bvh`: (success, that file's text,
+/// stderr).
+fn fill_with(
+    dir: &std::path::Path,
+    lib: &std::path::Path,
+    input: &std::path::Path,
+    gaps: &[&str],
+    method: &str,
+) -> (bool, String, String) {
+    let out = dir.join(format!("{method}.bvh"));
+    let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_deeprep"));
+    cmd.args(["inbetween", "--from-bvh", input.to_str().unwrap()]);
+    for g in gaps {
+        cmd.args(["--fill", g]);
+    }
+    let o = cmd
+        .args(["--method", method, "-o", out.to_str().unwrap()])
+        .args(["--models", lib.to_str().unwrap()])
+        .output()
+        .unwrap();
+    (
+        o.status.success(),
+        std::fs::read_to_string(&out).unwrap_or_default(),
+        String::from_utf8_lossy(&o.stderr).to_string(),
+    )
+}
+
+/// Frames `frames` of a BVH text's motion, one line each.
+fn rows(text: &str, frames: std::ops::RangeInclusive<usize>) -> Vec<String> {
+    let first = text
+        .lines()
+        .position(|l| l.starts_with("Frame Time"))
+        .unwrap()
+        + 1;
+    frames
+        .map(|f| text.lines().nth(first + f).unwrap().to_string())
+        .collect()
+}
+
 fn run(args: &[&str]) -> (bool, String) {
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_deeprep"))
         .args(["inbetween"])
@@ -180,44 +220,24 @@ fn a_gap_filling_network_takes_the_gaps_its_manifest_claims() {
     let input = dir.join("in.bvh");
     let text = clip_text(300);
     std::fs::write(&input, &text).unwrap();
-    let fill_with = |method: &str| {
-        let out = dir.join(format!("{method}.bvh"));
-        let o = std::process::Command::new(env!("CARGO_BIN_EXE_deeprep"))
-            .args(["inbetween", "--from-bvh", input.to_str().unwrap()])
-            .args([
-                "--fill", "100-159", "--fill", "200-209", "--fill", "250-253",
-            ])
-            .args(["--method", method])
-            .args([
-                "-o",
-                out.to_str().unwrap(),
-                "--models",
-                lib.to_str().unwrap(),
-            ])
-            .output()
-            .unwrap();
-        let err = String::from_utf8_lossy(&o.stderr).to_string();
-        assert!(o.status.success(), "{method}: {err}");
-        (std::fs::read_to_string(&out).unwrap(), err)
+    let gaps = ["100-159", "200-209", "250-253"];
+    let fill = |method: &str| {
+        let (ok, text, err) = fill_with(&dir, &lib, &input, &gaps, method);
+        assert!(ok, "{method}: {err}");
+        (text, err)
     };
-    let (model, info) = fill_with("model");
+    let (model, info) = fill("model");
     assert!(
         info.contains("200-209: pipeline fill")
             && info.contains("100-159: pipeline residual")
             && info.contains("250-253: a cubic Hermite curve"),
         "{info}"
     );
-    let (cond, _) = fill_with("cond");
-    let (fill, info) = fill_with("fill");
+    let (cond, _) = fill("cond");
+    let (by_fill, info) = fill("fill");
     assert!(info.contains("100-159: pipeline fill"), "{info}");
-    let rows = |t: &str, frames: std::ops::RangeInclusive<usize>| -> Vec<String> {
-        let first = t.lines().position(|l| l.starts_with("Frame Time")).unwrap() + 1;
-        frames
-            .map(|f| t.lines().nth(first + f).unwrap().to_string())
-            .collect()
-    };
     assert_eq!(rows(&model, 200..=209), rows(&cond, 200..=209));
-    assert_eq!(rows(&fill, 100..=159), rows(&cond, 100..=159));
+    assert_eq!(rows(&by_fill, 100..=159), rows(&cond, 100..=159));
     // and the check can fail: the default network's gap differs from it
     assert_ne!(rows(&model, 100..=159), rows(&cond, 100..=159));
     std::fs::remove_dir_all(&dir).ok();
@@ -256,47 +276,21 @@ fn a_long_gap_filling_network_takes_the_gaps_its_manifest_claims() {
     write(&manifest);
     let input = dir.join("in.bvh");
     std::fs::write(&input, clip_text(300)).unwrap();
-    let fill_with = |method: &str| {
-        let out = dir.join(format!("{method}.bvh"));
-        let o = std::process::Command::new(env!("CARGO_BIN_EXE_deeprep"))
-            .args(["inbetween", "--from-bvh", input.to_str().unwrap()])
-            .args(["--fill", "30-89", "--fill", "150-229"])
-            .args(["--method", method])
-            .args([
-                "-o",
-                out.to_str().unwrap(),
-                "--models",
-                lib.to_str().unwrap(),
-            ])
-            .output()
-            .unwrap();
-        let err = String::from_utf8_lossy(&o.stderr).to_string();
-        (
-            o.status.success(),
-            std::fs::read_to_string(&out).unwrap_or_default(),
-            err,
-        )
-    };
-    let (ok, model, info) = fill_with("model");
+    let fill = |method: &str| fill_with(&dir, &lib, &input, &["30-89", "150-229"], method);
+    let (ok, model, info) = fill("model");
     assert!(ok, "{info}");
     assert!(
         info.contains("30-89: pipeline fill-long") && info.contains("150-229: pipeline residual"),
         "{info}"
     );
-    let (ok, residual, info) = fill_with("residual");
+    let (ok, residual, info) = fill("residual");
     assert!(ok && info.contains("30-89: pipeline residual"), "{info}");
-    let (ok, _, info) = fill_with("fill-long");
+    let (ok, _, info) = fill("fill-long");
     assert!(ok && info.contains("150-229: pipeline fill-long"), "{info}");
-    let rows = |t: &str, frames: std::ops::RangeInclusive<usize>| -> Vec<String> {
-        let first = t.lines().position(|l| l.starts_with("Frame Time")).unwrap() + 1;
-        frames
-            .map(|f| t.lines().nth(first + f).unwrap().to_string())
-            .collect()
-    };
     assert_eq!(rows(&model, 30..=89), rows(&residual, 30..=89));
     manifest["fill_from"] = 80.into();
     write(&manifest);
-    let (ok, _, err) = fill_with("model");
+    let (ok, _, err) = fill("model");
     assert!(
         !ok && err.contains("tween_fill_long.manifest.json") && err.contains("fill_from 80"),
         "{err}"
