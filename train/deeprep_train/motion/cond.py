@@ -72,7 +72,7 @@ from deeprep_train.motion.eval import npss
 from deeprep_train.motion import dna as dna_rule
 from deeprep_train.motion.residual import (
     GATE_FRAMES, PHASE_FRAMES, SCALE, Clips, ResidualTween, Skeleton, arch, fk, from_sixd, key_phase, l2p_sd,
-    mirror, quat_to_mat, rot_y, sample_keys, fill_keys, sixd, slerp, supervised, upsample2)
+    mirror, quat_to_mat, rot_y, sample_keys, fill_keys, add_fill_args, sixd, slerp, supervised, upsample2)
 from deeprep_train.motion.residual_adv import quat_mul
 
 OUT = os.path.join(CACHE, "cond")
@@ -1110,22 +1110,12 @@ def main(argv=None):
                     help="diversity-sensitive term: two noise draws per window kept apart (issue 47, item 2)")
     ap.add_argument("--div-tau", type=float, default=0.1,
                     help="cap on the rewarded output distance per unit of noise distance (positions / SCALE)")
-    ap.add_argument("--fill-share", type=float, default=0.0,
-                    help="share of windows laid out as gaps in captured motion: runs of known frames around "
-                         "gaps of 10-180 frames, every known frame a whole-pose key (issue 50)")
     ap.add_argument("--context-base", type=int, default=-1,
                     help="1: over gaps with a whole-pose context frame, motion::fill's context-tangent Hermite curve "
                          "as the base (0: SLERP+LERP; default: the checkpoint's)")
-    ap.add_argument("--fill-law", choices=["log", "inverse"], default="log",
-                    help="the gap lengths' law in fill layouts: log-uniform, or density 1/L^2 (more short gaps)")
     ap.add_argument("--name", default="tween_cond",
                     help="export: the file name under models/onnx (tween_fill: the gap-filling network)")
-    ap.add_argument("--fill-up-to", type=int, default=0,
-                    help="export: the longest gap the `model` fill gives this network (its manifest's fill_up_to)")
-    ap.add_argument("--fill-from", type=int, default=0,
-                    help="export: the shortest gap the `model` fill gives this network (fill_from; default 1)")
-    ap.add_argument("--fill-gaps", type=lambda v: tuple(int(x) for x in v.split(",")), default=(10, 180),
-                    help="LO,HI: the gap lengths of --fill-share's windows (their law: --fill-law)")
+    add_fill_args(ap, "tween_fill")
     ap.add_argument("--short-every", type=int, default=0,
                     help="every K-th batch of --short-frames windows (0: never), as many frames in all")
     ap.add_argument("--short-frames", type=int, default=150)

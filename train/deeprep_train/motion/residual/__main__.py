@@ -3,7 +3,7 @@ import argparse
 import os
 
 from deeprep_train.paths import CACHE
-from deeprep_train.motion.residual.data import OUT, PORTABLE, prepare
+from deeprep_train.motion.residual.data import OUT, PORTABLE, add_fill_args, prepare
 from deeprep_train.motion.residual.net import DILATIONS
 from deeprep_train.motion.residual.evaluation import evaluate, pick
 from deeprep_train.motion.residual.training import train
@@ -58,18 +58,7 @@ def main():
                          "the rest draw each interval)")
     ap.add_argument("--name", default="tween_residual",
                     help="export: the file's name (tween_fill_long: the long-gap filling network, with --fill-up-to)")
-    ap.add_argument("--fill-from", type=int, default=0,
-                    help="export: the shortest gap the `model` fill gives this network (its manifest's fill_from)")
-    ap.add_argument("--fill-up-to", type=int, default=0,
-                    help="export: the longest gap the `model` fill gives this network (fill_up_to; a gap-filling "
-                         "network, --name tween_fill_long)")
-    ap.add_argument("--fill-share", type=float, default=0.0,
-                    help="train: the share of windows laid out as gaps in captured motion (issue 50: every context "
-                         "frame a key, gaps of --fill-gaps frames; data.fill_keys)")
-    ap.add_argument("--fill-gaps", type=lambda v: tuple(int(x) for x in v.split(",")), default=(10, 180),
-                    help="LO,HI: the gap lengths of --fill-share's windows")
-    ap.add_argument("--fill-law", choices=["log", "inverse"], default="log",
-                    help="the law of --fill-share's gap lengths (data.fill_keys)")
+    add_fill_args(ap, "tween_fill_long")
     ap.add_argument("--gan-min-gap", type=int, default=0,
                     help="train: the adversarial loss's gradient skips frames of intervals shorter than this "
                          "(frames); the supervised terms alone train them (issue 19: the adversary cost L2P at gap 30)")

@@ -270,3 +270,24 @@ def fill_keys(n, rng, gaps=(10, 180), law="log"):
     if keys[-1] != n - 1:
         keys.append(n - 1)
     return keys
+
+
+def add_fill_args(ap, network):
+    """The gap-filling arguments both trainers take (issue 50): train's
+    --fill-share / --fill-gaps / --fill-law (data.fill_keys' layouts) and
+    export's --fill-from / --fill-up-to (the band the `model` fill gives the
+    exported network, motion::fill::method_for). `network`: the file a
+    gap-filling export is named (--name)."""
+    ap.add_argument("--fill-share", type=float, default=0.0,
+                    help="train: share of windows laid out as gaps in captured motion: runs of known frames around "
+                         "gaps of --fill-gaps frames, every known frame a whole-pose key (fill_keys)")
+    ap.add_argument("--fill-gaps", type=lambda v: tuple(int(x) for x in v.split(",")), default=(10, 180),
+                    help="LO,HI: the gap lengths of --fill-share's windows (their law: --fill-law)")
+    ap.add_argument("--fill-law", choices=["log", "inverse"], default="log",
+                    help="the gap lengths' law in fill layouts: log-uniform, or density 1/L^2 (more short gaps)")
+    ap.add_argument("--fill-from", type=int, default=0,
+                    help="export: the shortest gap the `model` fill gives this network (its manifest's fill_from; "
+                         "default 1)")
+    ap.add_argument("--fill-up-to", type=int, default=0,
+                    help=f"export: the longest gap the `model` fill gives this network (fill_up_to; a gap-filling "
+                         f"network, --name {network})")
