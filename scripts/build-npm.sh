@@ -54,7 +54,7 @@ for w in pkg/deeprep_bg.wasm pkg/core/deeprep_bg.wasm pkg/core/deeprep_relaxed_b
 done
 # The models the client loads by default, found beside worker.js.
 mkdir -p pkg/models
-for f in tween_generator.onnx tween_path.onnx tween_generator.manifest.json tween_residual.onnx tween_residual.manifest.json tween_cond.onnx tween_cond.manifest.json tween_cond_dna.onnx tween_cond_dna.manifest.json tween_fill.onnx tween_fill.manifest.json ik.onnx ik.manifest.json; do
+for f in tween_generator.onnx tween_path.onnx tween_generator.manifest.json tween_residual.onnx tween_residual.manifest.json tween_cond.onnx tween_cond.manifest.json tween_cond_dna.onnx tween_cond_dna.manifest.json tween_fill.onnx tween_fill.manifest.json tween_fill_long.onnx tween_fill_long.manifest.json ik.onnx ik.manifest.json; do
   cp "models/onnx/$f" pkg/models/
 done
 cp npm/README.md pkg/README.md

@@ -8,7 +8,7 @@ export interface SynthesisResult {
    *  for the CLI: 'model' runs the residual network where its manifest makes it the default and
    *  the keys are whole poses without DNA, else the conditional network where its manifest makes
    *  it the default for partial keys and it reads them, else the generator. */
-  ran: 'residual' | 'cond' | 'cond-dna' | 'fill' | 'generator' | 'slerp' | 'zerovel' | 'hermite';
+  ran: 'residual' | 'cond' | 'cond-dna' | 'fill' | 'fill-long' | 'generator' | 'slerp' | 'zerovel' | 'hermite';
   /** The variation it ran at: the request's, else the chosen pipeline's own default (0 for SLERP+LERP). */
   variation: number;
   /** BVH text, 60 fps, the model's skeleton; empty when the request said `bvh: false`. */
@@ -141,6 +141,9 @@ export class DeeprepClient {
   /** Whether the gap-filling network is bundled (`fillGaps` with method `'fill'`, and `'model'` on the gap
    *  lengths its manifest gives it; loaded on the first such call). */
   readonly hasFill: boolean;
+  /** Whether the long-gap filling network is bundled (`fillGaps` with method `'fill-long'`, and `'model'` on
+   *  the gap lengths its manifest gives it; loaded on the first such call). */
+  readonly hasFillLong: boolean;
   /** The variation a request without one gets: the model manifest's (chosen on training takes). */
   readonly defaultVariation?: number;
   readonly modelError?: string;
@@ -157,10 +160,11 @@ export class DeeprepClient {
    *  from `context.before` frames before it and `context.after` after it (defaults 20 and 1); every
    *  other frame comes back exactly as it was. Bad ranges (reversed, outside the clip, overlapping,
    *  touching the clip's ends) reject with E_BAD_INPUT. 'model' (the default) fills short gaps with the
-   *  context-tangent Hermite curve, the gap-filling network's band (`hasFill`; 25-45 frames) with it and
-   *  longer gaps with the residual network; 'fill' runs the gap-filling network on every gap. */
+   *  context-tangent Hermite curve, the gap-filling network's band (`hasFill`; 25-45 frames) with it, the
+   *  long-gap filling network's band (`hasFillLong`) with that one and longer gaps with the residual
+   *  network; 'fill' and 'fill-long' run that network on every gap. */
   fillGaps(bvh: string | Uint8Array | ArrayBuffer, gaps: { start: number; end: number }[],
-    opts?: { method?: 'model' | 'fill' | 'residual' | 'cond' | 'slerp' | 'zerovel' | 'hermite'; context?: { before?: number; after?: number };
+    opts?: { method?: 'model' | 'fill' | 'fill-long' | 'residual' | 'cond' | 'slerp' | 'zerovel' | 'hermite'; context?: { before?: number; after?: number };
       signal?: AbortSignal }): Promise<SynthesisResult>;
   /** A humanoid clip (BVH text or bytes) on another skeleton: `to` is BVH text or bytes whose
    *  skeleton receives the motion (its own motion is ignored), or 'model' (the default). `map`

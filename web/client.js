@@ -113,6 +113,7 @@ export class DeeprepClient {
     c.hasCond = info.hasCond; // method 'cond' (the conditional network: whole-pose, root-only, 2-D keys) is available
     c.condDna = info.condDna === true; // ... and it takes Motion DNA (`dna` with method 'cond': the DNA network, tween_cond_dna)
     c.hasFill = info.hasFill === true; // the gap-filling network (fillGaps' method 'fill', and 'model' on the gaps its manifest gives it)
+    c.hasFillLong = info.hasFillLong === true; // the long-gap filling network (method 'fill-long', and 'model' on its band)
     c.defaultVariation = info.defaultVariation;
     c.modelError = info.modelError;
     c.wasm = info.wasm; // the wasm build the worker runs: 'relaxed-simd' or 'simd128'
@@ -138,7 +139,7 @@ export class DeeprepClient {
   /** Fills gaps in captured motion: `bvh` is BVH text or bytes (the model's skeleton or another
    * humanoid's, any frame rate), `gaps` a list of { start, end } (inclusive frames of the clip).
    * Each gap is synthesized from `context.before` frames before it and `context.after` after it
-   * (defaults 20 and 1) by `method` ('model', 'fill', 'residual', 'cond', 'slerp', 'zerovel' or 'hermite');
+   * (defaults 20 and 1) by `method` ('model', 'fill', 'fill-long', 'residual', 'cond', 'slerp', 'zerovel' or 'hermite');
    * every other frame comes back exactly as it was. Bad ranges (reversed, outside the clip,
    * overlapping, touching the clip's ends) reject with E_BAD_INPUT. */
   fillGaps(bvh, gaps, { method = 'model', context = {}, signal } = {}) {

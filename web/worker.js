@@ -60,21 +60,34 @@ let condDna = false;
 // serves: method 'cond', or 'model' when its manifest says default_for_dna
 let condDnaManifest = null;
 let condDnaForModel = false;
-// the gap-filling network's manifest (issue 50) and the gap lengths the
-// `model` fill gives it ([fill_from, fill_up_to]; motion::fill::method_for)
+// the gap-filling networks' manifests (issue 50) and the gap lengths the
+// `model` fill gives each ([fill_from, fill_up_to]; motion::fill::method_for):
+// 'fill' (tween_fill) and 'fill-long' (tween_fill_long, a residual network)
 let fillManifest = null;
 let fillRange = null;
+let fillLongManifest = null;
+let fillLongRange = null;
 
-/** Whether a fillGaps request runs the gap-filling network, so that it is
- * loaded first: method 'fill', or 'model' with a gap whose length (frames
- * inside it) is in its manifest's range. */
-function needsFill(msg) {
+/** A gap-filling manifest's band [fill_from, fill_up_to], or null. */
+function bandOf(manifest) {
+  try {
+    const m = JSON.parse(manifest);
+    return Number.isInteger(m?.fill_up_to) ? [m.fill_from ?? 1, m.fill_up_to] : null;
+  } catch { return null; }
+}
+
+/** Whether a fillGaps request runs the gap-filling network `name` ('fill' or
+ * 'fill-long') whose band is `range`, so that it is loaded first: that
+ * method, or 'model' with a gap whose length (frames inside it) is in the
+ * band and not in 'fill''s, which motion::fill::method_for tries first. */
+function needsFill(msg, name, range) {
   const method = msg.method || 'model';
-  if (method === 'fill') return true;
-  if (method !== 'model' || !fillRange || !Array.isArray(msg.gaps)) return false;
+  if (method === name) return true;
+  if (method !== 'model' || !range || !Array.isArray(msg.gaps)) return false;
+  const inside = (len, r) => r && len >= r[0] && len <= r[1];
   for (let i = 0; i + 1 < msg.gaps.length; i += 2) {
     const len = msg.gaps[i + 1] + 1 - msg.gaps[i];
-    if (len >= fillRange[0] && len <= fillRange[1]) return true;
+    if (inside(len, range) && (name === 'fill' || !inside(len, fillRange))) return true;
   }
   return false;
 }
@@ -126,6 +139,7 @@ function modelUrls(base) {
              cond: at('tween_cond.onnx'), condManifest: at('tween_cond.manifest.json'),
              condDna: at('tween_cond_dna.onnx'), condDnaManifest: at('tween_cond_dna.manifest.json'),
              fill: at('tween_fill.onnx'), fillManifest: at('tween_fill.manifest.json'),
+             fillLong: at('tween_fill_long.onnx'), fillLongManifest: at('tween_fill_long.manifest.json'),
              ik: at('ik.onnx'), ikManifest: at('ik.manifest.json') };
   }
   return {
@@ -140,6 +154,8 @@ function modelUrls(base) {
     condDnaManifest: new URL('./models/tween_cond_dna.manifest.json', import.meta.url).href,
     fill: new URL('./models/tween_fill.onnx', import.meta.url).href,
     fillManifest: new URL('./models/tween_fill.manifest.json', import.meta.url).href,
+    fillLong: new URL('./models/tween_fill_long.onnx', import.meta.url).href,
+    fillLongManifest: new URL('./models/tween_fill_long.manifest.json', import.meta.url).href,
     ik: new URL('./models/ik.onnx', import.meta.url).href,
     ikManifest: new URL('./models/ik.manifest.json', import.meta.url).href,
   };
@@ -236,15 +252,21 @@ async function handleInit(msg) {
       condDnaManifest = await fetchText(urls.condDnaManifest).catch(() => null);
       try { condDnaForModel = JSON.parse(condDnaManifest)?.default_for_dna === true; } catch { condDnaManifest = null; }
     }
-    // The gap-filling network (issue 50) on the first fillGaps that runs it (needsFill).
+    // The gap-filling networks (issue 50) on the first fillGaps that runs each (needsFill).
     if (msg.models?.fill) {
       model.setFill(new Uint8Array(msg.models.fill), msg.models.fillManifest);
+      fillRange = bandOf(msg.models.fillManifest);
     } else {
       fillManifest = await fetchText(urls.fillManifest).catch(() => null);
-      try {
-        const m = JSON.parse(fillManifest);
-        fillRange = [m.fill_from ?? 1, m.fill_up_to];
-      } catch { fillManifest = null; }
+      fillRange = bandOf(fillManifest);
+      if (!fillRange) fillManifest = null;
+    }
+    if (msg.models?.fillLong) {
+      model.setFillLong(new Uint8Array(msg.models.fillLong), msg.models.fillLongManifest);
+    } else {
+      fillLongManifest = await fetchText(urls.fillLongManifest).catch(() => null);
+      fillLongRange = bandOf(fillLongManifest);
+      if (!fillLongRange) fillLongManifest = null;
     }
     // One plan for any length now, so the first synthesis of each length
     // does not wait for tract to optimize one (runtime::Model::prepare_any_shape),
@@ -264,6 +286,7 @@ async function handleInit(msg) {
                   hasCond: model.hasCond || condManifest !== null,
                   condDna: condDna || model.hasCondDna || condDnaManifest !== null,
                   hasFill: model.hasFill || fillManifest !== null,
+                  hasFillLong: model.hasFillLong || fillLongManifest !== null,
                   defaultVariation: model.defaultVariation, wasm: wasmBuild });
     warmWhenIdle(WARM_UP_ROUNDS.whenIdle);
   } catch (e) {
@@ -430,7 +453,9 @@ function lazyNetworks() {
     { name: 'the Motion DNA network', has: () => model.hasCondDna, manifest: condDnaManifest, url: urls.condDna,
       set: (b, m) => model.setCondDna(b, m), runs: needsCondDna },
     { name: 'the gap-filling network', has: () => model.hasFill, manifest: fillManifest, url: urls.fill,
-      set: (b, m) => model.setFill(b, m), runs: (msg) => msg.type === 'fillGaps' && needsFill(msg) },
+      set: (b, m) => model.setFill(b, m), runs: (msg) => msg.type === 'fillGaps' && needsFill(msg, 'fill', fillRange) },
+    { name: 'the long-gap filling network', has: () => model.hasFillLong, manifest: fillLongManifest, url: urls.fillLong,
+      set: (b, m) => model.setFillLong(b, m), runs: (msg) => msg.type === 'fillGaps' && needsFill(msg, 'fill-long', fillLongRange) },
   ];
 }
 

@@ -83,6 +83,11 @@ await withBenchPage(async (page) => {
     if (dnaFiles.every((r) => r.ok)) {
       withResidual.setCondDna(new Uint8Array(await dnaFiles[0].arrayBuffer()), await dnaFiles[1].text());
     }
+    // the long-gap filling network, where the models folder has it (the default fill of a 60-frame gap)
+    const longFiles = await Promise.all(['onnx', 'manifest.json'].map((x) => fetch(`../models/onnx/tween_fill_long.${x}`)));
+    if (longFiles.every((r) => r.ok)) {
+      withResidual.setFillLong(new Uint8Array(await longFiles[0].arrayBuffer()), await longFiles[1].text());
+    }
     const plainResidual = inbetweener(plain, residual);
     const cand = candidate ? inbetweener(m, await get(`../${candidate}`).catch((e) => {
       throw new Error(`--candidate ${e.message}`);

@@ -217,6 +217,10 @@ fn a_gap_filling_network_takes_the_gaps_its_manifest_claims() {
     manifest["fill_from"] = 5.into();
     manifest["fill_up_to"] = 45.into();
     std::fs::write(lib.join("tween_fill.manifest.json"), manifest.to_string()).unwrap();
+    // without the long-gap network, so that the longer gap goes to the default one
+    for f in ["tween_fill_long.onnx", "tween_fill_long.manifest.json"] {
+        std::fs::remove_file(lib.join(f)).ok();
+    }
     let input = dir.join("in.bvh");
     let text = clip_text(300);
     std::fs::write(&input, &text).unwrap();
@@ -479,10 +483,71 @@ fn the_bundled_gap_filling_network_serves_its_band() {
         .unwrap();
     let info = String::from_utf8_lossy(&o.stderr).to_string();
     assert!(o.status.success(), "{info}");
+    // the longer gap: the long-gap network where its band holds it, else the residual network
+    let longer = up_to + 15;
+    let beyond = match std::fs::read_to_string(dir.join("tween_fill_long.manifest.json")) {
+        Ok(t) => {
+            let m: serde_json::Value = serde_json::from_str(&t).unwrap();
+            let (lo, hi) = (
+                m["fill_from"].as_u64().unwrap(),
+                m["fill_up_to"].as_u64().unwrap(),
+            );
+            if (lo..=hi).contains(&(longer as u64)) {
+                "pipeline fill-long"
+            } else {
+                "pipeline residual"
+            }
+        }
+        Err(_) => "pipeline residual",
+    };
     for (spec, want) in specs.iter().zip([
         "pipeline fill",
         "pipeline fill",
         "a cubic Hermite curve",
+        beyond,
+    ]) {
+        assert!(info.contains(&format!("{spec}: {want}")), "{spec}: {info}");
+    }
+    std::fs::remove_dir_all(&tmp).ok();
+}
+
+/// The bundled long-gap filling network (models/onnx/tween_fill_long.onnx):
+/// tract against onnxruntime on its fixture, and the `model` fill gives it
+/// the gap lengths its manifest claims (`fill_from`..=`fill_up_to`) and the
+/// residual network the longer ones.
+#[test]
+fn the_bundled_long_gap_network_serves_its_band() {
+    let dir = root().join("models/onnx");
+    if models().is_none() || !dir.join("tween_fill_long.onnx").exists() {
+        eprintln!("SKIP: models/onnx/tween_fill_long.onnx is not bundled");
+        return;
+    }
+    crate::common::fixture_parity("tween_fill_long", 2e-4);
+    let manifest: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.join("tween_fill_long.manifest.json")).unwrap(),
+    )
+    .unwrap();
+    let from = manifest["fill_from"].as_u64().unwrap() as usize;
+    let up_to = manifest["fill_up_to"].as_u64().unwrap() as usize;
+    let tmp = std::env::temp_dir().join(format!("deeprep_fill_long_{}", std::process::id()));
+    std::fs::create_dir_all(&tmp).unwrap();
+    let input = tmp.join("in.bvh");
+    std::fs::write(&input, clip_text(from + 2 * up_to + 200)).unwrap();
+    // gaps of fill_from and fill_up_to frames, and one longer
+    let specs: Vec<String> = [
+        (40, from),
+        (from + 100, up_to),
+        (from + up_to + 160, up_to + 10),
+    ]
+    .iter()
+    .map(|&(s, n)| format!("{s}-{}", s + n - 1))
+    .collect();
+    let gaps: Vec<&str> = specs.iter().map(String::as_str).collect();
+    let (ok, _, info) = fill_with(&tmp, &dir, &input, &gaps, "model");
+    assert!(ok, "{info}");
+    for (spec, want) in specs.iter().zip([
+        "pipeline fill-long",
+        "pipeline fill-long",
         "pipeline residual",
     ]) {
         assert!(info.contains(&format!("{spec}: {want}")), "{spec}: {info}");

@@ -68,6 +68,9 @@ try {
   }
   // a 31-frame gap: the gap-filling network where the package has it (its manifest's band), fetched now
   if (client.hasFill && filled.ran !== 'fill') throw new Error(`fillGaps ran '${filled.ran}' with the gap-filling network bundled`);
+  // a 61-frame gap: the long-gap filling network where the package has it, fetched now
+  const longFill = client.hasFillLong ? await client.fillGaps(fromClip.bvh, [{ start: 30, end: 90 }]) : null;
+  if (longFill && longFill.ran !== 'fill-long') throw new Error(`fillGaps ran '${longFill.ran}' on a 61-frame gap with the long-gap network bundled`);
   const reversed = await client.fillGaps(fromClip.bvh, [{ start: 60, end: 30 }]).then(() => null, (e) => e);
   if (reversed?.code !== 'E_BAD_INPUT' || !/reversed/.test(reversed.message)) throw new Error(`a reversed gap: ${reversed?.code} ${reversed?.message}`);
   // by the conditional network, which the worker loads on this first use
@@ -208,7 +211,7 @@ try {
   let code = null;
   await client.importBvh(new TextEncoder().encode('HIERARCHY\nnot a bvh')).catch((e) => { code = e.code; });
   if (r.frames !== 60 || clip.frameCount !== 2 || code !== 'E_BAD_BVH') throw new Error(`unexpected: ${r.frames} ${clip.frameCount} ${code}`);
-  document.getElementById('out').textContent = `deeprep ${version()} 6d ${Array.from(sixd)}; synthesized ${r.frames} frames; a 120 fps clip in-betweened (${fromClip.frames} frames), also on another skeleton, and a gap filled (by ${filled.ran}); ${cmu}; ${robot}; three.js: ${compared} tracks as BVHLoader's (max difference ${worst.toExponential(1)}), played; root-only keys hit; a 1,500-frame gap via critical keys at ${longGap.criticalFrames.join(', ')}; bad BVH -> ${code}; missing models -> ${missing}; abort -> ${aborted}, then ${after.frames} frames; worker wasm ${client.wasm}, within ${gap.toExponential(1)} of simd128`;
+  document.getElementById('out').textContent = `deeprep ${version()} 6d ${Array.from(sixd)}; synthesized ${r.frames} frames; a 120 fps clip in-betweened (${fromClip.frames} frames), also on another skeleton, and a gap filled (by ${filled.ran}${longFill ? `; a 61-frame one by ${longFill.ran}` : ''}); ${cmu}; ${robot}; three.js: ${compared} tracks as BVHLoader's (max difference ${worst.toExponential(1)}), played; root-only keys hit; a 1,500-frame gap via critical keys at ${longGap.criticalFrames.join(', ')}; bad BVH -> ${code}; missing models -> ${missing}; abort -> ${aborted}, then ${after.frames} frames; worker wasm ${client.wasm}, within ${gap.toExponential(1)} of simd128`;
   document.body.dataset.done = '1';
 } catch (e) {
   document.body.dataset.error = `${e.code || ''} ${e.message}`;
