@@ -74,7 +74,7 @@ fn main() {
         let slerp_ms = t.elapsed().as_secs_f64() * 1e3 / reps as f64;
         // the residual network: first call at this length, then the best of reps
         let res = residual.as_ref().map(|r| {
-            let v = r.default_variation;
+            let v = r.info().variation;
             let (first, best, ()) = first_and_best(reps, |_| {
                 r.synthesize(&req.keys, n, v).expect("residual");
             });

@@ -328,7 +328,7 @@ fn the_residual_model_keeps_keys_and_scales_by_variation() {
     assert_eq!(model(&keys, true), Pipeline::Generator, "DNA asked for");
     assert_eq!(
         model(&keys, false) == Pipeline::Residual,
-        m.default_for_whole_pose_keys
+        m.info().default_for_whole_pose_keys
     );
     let frames = 280;
     let out = m.synthesize(&keys, frames, 1.0).unwrap();

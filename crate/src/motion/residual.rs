@@ -46,9 +46,17 @@ struct Manifest {
 }
 
 impl Manifest {
-    fn fill_gaps(&self) -> Result<Option<(usize, usize)>> {
-        crate::motion::fill::band(self.fill_from, self.fill_up_to)
-            .map_err(|e| Error::Invalid(format!("residual manifest: {e}")))
+    /// Its flags for the planner, checked: what both [`info_of_manifest`]
+    /// and a loaded network's `info()` give.
+    fn info(&self) -> Result<super::plan::ResidualInfo> {
+        let bad = |e: Error| Error::Invalid(format!("residual manifest: {e}"));
+        let variation = self.variation.unwrap_or(1.0);
+        super::check_variation(variation).map_err(bad)?;
+        Ok(super::plan::ResidualInfo {
+            variation,
+            default_for_whole_pose_keys: self.default_for_whole_pose_keys,
+            fill_gaps: crate::motion::fill::band(self.fill_from, self.fill_up_to).map_err(bad)?,
+        })
     }
 }
 
@@ -58,14 +66,7 @@ impl Manifest {
 pub fn info_of_manifest(json: &str) -> Result<super::plan::ResidualInfo> {
     let m: Manifest = serde_json::from_str(json)
         .map_err(|e| Error::Invalid(format!("residual manifest: {e}")))?;
-    let variation = m.variation.unwrap_or(1.0);
-    super::check_variation(variation)
-        .map_err(|e| Error::Invalid(format!("residual manifest: {e}")))?;
-    Ok(super::plan::ResidualInfo {
-        variation,
-        default_for_whole_pose_keys: m.default_for_whole_pose_keys,
-        fill_gaps: m.fill_gaps()?,
-    })
+    m.info()
 }
 
 /// The residual in-betweening network with its skeleton.
@@ -76,14 +77,10 @@ pub struct ResidualModel {
     rotating: Vec<usize>,
     scale: f64,
     gate_frames: f64,
-    /// The variation a request without one runs at.
-    pub default_variation: f32,
-    /// Whether the in-betweening's `model` method runs this network when
-    /// every key is a whole pose and no Motion DNA is given (the manifest
-    /// says so when it beat the generator on training takes).
-    pub default_for_whole_pose_keys: bool,
-    /// A gap-filling network's band (its manifest's `fill_from..=fill_up_to`).
-    pub fill_gaps: Option<(usize, usize)>,
+    /// Its manifest's flags for the planner: the variation a request
+    /// without one runs at, whether `model` runs it for whole-pose keys
+    /// without DNA, and a gap-filling network's band.
+    info: super::plan::ResidualInfo,
 }
 
 pub(super) type V3 = [f64; 3];
@@ -169,22 +166,14 @@ impl ResidualModel {
                 "residual manifest: scale and gate_frames must be positive".into(),
             ));
         }
-        let default_variation = m.variation.unwrap_or(1.0);
-        if !(0.0..=2.0).contains(&default_variation) {
-            return Err(Error::Invalid(format!(
-                "residual manifest: variation {default_variation} is outside [0, 2]"
-            )));
-        }
-        let fill_gaps = m.fill_gaps()?;
+        let info = m.info()?;
         Ok(ResidualModel {
             net: Model::from_onnx_bytes(onnx)?,
             template,
             rotating: m.rotating,
             scale: m.scale,
             gate_frames: m.gate_frames,
-            default_variation,
-            default_for_whole_pose_keys: m.default_for_whole_pose_keys,
-            fill_gaps,
+            info,
         })
     }
 
@@ -229,11 +218,7 @@ impl ResidualModel {
 
     /// What the request planner (`motion::plan`) needs of this network.
     pub fn info(&self) -> super::plan::ResidualInfo {
-        super::plan::ResidualInfo {
-            variation: self.default_variation,
-            default_for_whole_pose_keys: self.default_for_whole_pose_keys,
-            fill_gaps: self.fill_gaps,
-        }
+        self.info
     }
 
     /// In-betweens whole-pose keys over `frames` frames. Frames before the

@@ -120,7 +120,7 @@ impl Inbetweener {
         let mut stage_ms = [0.0; 4];
         let bands = fill::Bands {
             fill: self.fill.as_ref().and_then(|f| f.info().fill_gaps),
-            fill_long: self.fill_long.as_ref().and_then(|f| f.fill_gaps),
+            fill_long: self.fill_long.as_ref().and_then(|f| f.info().fill_gaps),
         };
         let filled = fill::fill(b, &gaps, ctx, &mut |c, ck, gap| {
             let method = fill::method_for(method, gap.len(), bands);

@@ -248,7 +248,7 @@ impl Inbetweener {
     #[wasm_bindgen(getter, js_name = defaultVariation)]
     pub fn default_variation(&self) -> f32 {
         match &self.residual {
-            Some(r) if r.default_for_whole_pose_keys => r.default_variation,
+            Some(r) if r.info().default_for_whole_pose_keys => r.info().variation,
             _ => self.inner.default_variation,
         }
     }
@@ -357,7 +357,7 @@ impl Inbetweener {
     pub fn residual_is_default(&self) -> bool {
         self.residual
             .as_ref()
-            .is_some_and(|r| r.default_for_whole_pose_keys)
+            .is_some_and(|r| r.info().default_for_whole_pose_keys)
     }
 
     /// Adds the conditional network (the bytes of `tween_cond.onnx` and its
@@ -415,7 +415,7 @@ impl Inbetweener {
     #[wasm_bindgen(js_name = setFillLong)]
     pub fn set_fill_long(&mut self, onnx: &[u8], manifest: &str) -> Result<(), JsError> {
         let m = self.residual_model(onnx, manifest)?;
-        if m.fill_gaps.is_none() {
+        if m.info().fill_gaps.is_none() {
             return Err(JsError::new(
                 "the long-gap filling network's manifest gives no band (fill_up_to)",
             ));
