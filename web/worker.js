@@ -191,6 +191,17 @@ async function handleInit(msg) {
   postMessage({ type: 'progress', id: msg.id, stage: 'compiling wasm', fraction: 0 });
   wasmBuild = await startWasm(msg.wasm);
   urls = modelUrls(msg.modelBase);
+  // the optional networks' manifests (small files; null where the folder
+  // lacks one, or where msg.models gives the network): all requested now,
+  // beside the generator's download, each awaited where it is read
+  const manifestOf = (given, url) => (given ? null : fetchText(url).catch(() => null));
+  const manifests = {
+    residual: manifestOf(msg.models?.residual, urls.residualManifest),
+    cond: manifestOf(msg.models?.cond, urls.condManifest),
+    condDna: manifestOf(msg.models?.condDna, urls.condDnaManifest),
+    fill: manifestOf(msg.models?.fill, urls.fillManifest),
+    fillLong: manifestOf(msg.models?.fillLong, urls.fillLongManifest),
+  };
   try {
     let g, p, m;
     if (msg.models) {
@@ -212,7 +223,7 @@ async function handleInit(msg) {
     if (msg.models?.residual) {
       model.setResidual(new Uint8Array(msg.models.residual), msg.models.residualManifest);
     } else {
-      residualManifest = await fetchText(urls.residualManifest).catch(() => null);
+      residualManifest = await manifests.residual;
       // the residual network is the model for whole-pose keys when its
       // manifest says so: then it loads now, not on first use
       let isDefault = false;
@@ -232,7 +243,7 @@ async function handleInit(msg) {
       model.setCond(new Uint8Array(msg.models.cond), msg.models.condManifest);
       try { condDna = JSON.parse(msg.models.condManifest)?.dna === true; } catch { /* setCond checked it */ }
     } else {
-      condManifest = await fetchText(urls.condManifest).catch(() => null);
+      condManifest = await manifests.cond;
       let isDefault = false;
       try {
         const m = JSON.parse(condManifest);
@@ -249,7 +260,7 @@ async function handleInit(msg) {
       model.setCondDna(new Uint8Array(msg.models.condDna), msg.models.condDnaManifest);
       try { condDnaForModel = JSON.parse(msg.models.condDnaManifest)?.default_for_dna === true; } catch { /* setCondDna checked it */ }
     } else {
-      condDnaManifest = await fetchText(urls.condDnaManifest).catch(() => null);
+      condDnaManifest = await manifests.condDna;
       try { condDnaForModel = JSON.parse(condDnaManifest)?.default_for_dna === true; } catch { condDnaManifest = null; }
     }
     // The gap-filling networks (issue 50) on the first fillGaps that runs each (needsFill).
@@ -257,14 +268,14 @@ async function handleInit(msg) {
       model.setFill(new Uint8Array(msg.models.fill), msg.models.fillManifest);
       fillRange = bandOf(msg.models.fillManifest);
     } else {
-      fillManifest = await fetchText(urls.fillManifest).catch(() => null);
+      fillManifest = await manifests.fill;
       fillRange = bandOf(fillManifest);
       if (!fillRange) fillManifest = null;
     }
     if (msg.models?.fillLong) {
       model.setFillLong(new Uint8Array(msg.models.fillLong), msg.models.fillLongManifest);
     } else {
-      fillLongManifest = await fetchText(urls.fillLongManifest).catch(() => null);
+      fillLongManifest = await manifests.fillLong;
       fillLongRange = bandOf(fillLongManifest);
       if (!fillLongRange) fillLongManifest = null;
     }
