@@ -72,7 +72,7 @@ from deeprep_train.motion.eval import npss
 from deeprep_train.motion import dna as dna_rule
 from deeprep_train.motion.residual import (
     GATE_FRAMES, PHASE_FRAMES, SCALE, Clips, ResidualTween, Skeleton, arch, fk, from_sixd, key_phase, l2p_sd,
-    mirror, quat_to_mat, rot_y, sample_keys, fill_keys, add_fill_args, sixd, slerp, supervised, upsample2)
+    mirror, quat_to_mat, rot_y, sample_keys, fill_keys, add_fill_args, fill_band, sixd, slerp, supervised, upsample2)
 from deeprep_train.motion.residual_adv import quat_mul
 
 OUT = os.path.join(CACHE, "cond")
@@ -955,11 +955,7 @@ def export(args):
     sess = ort.InferenceSession(path, providers=["CPUExecutionProvider"])
     parity = fixture(name, sess, {k: v.numpy() for k, v in feeds.items()}, ref, out_dir)
     prior_m = quat_to_mat(prior)
-    if args.fill_from and not 1 <= args.fill_from <= args.fill_up_to:
-        raise SystemExit("--fill-from needs --fill-up-to and 1 <= FROM <= UP_TO")
-    fill = {"fill_up_to": args.fill_up_to} if args.fill_up_to else {}
-    if args.fill_from:
-        fill["fill_from"] = args.fill_from
+    fill = fill_band(args)
     write_json(os.path.join(out_dir, f"{name}.manifest.json"), {
         "name": name,
         "kind": "cond-tween",

@@ -26,7 +26,7 @@ optimizer and the weights' moving average) and snapshots gen_<step>.pt.
 average in float16, no optimizer state; committed, so a new machine resumes
 with `train --resume`, which falls back to it when train/cache is empty).
 """
-from deeprep_train.motion.residual.data import Clips, GATE_FRAMES, OUT, PHASE_FRAMES, PORTABLE, SCALE, Skeleton, canonical, features, from_sixd, key_phase, mirror, prepare, quat_to_mat, rot_y, sample_keys, fill_keys, add_fill_args, sixd, slerp  # noqa: E501
+from deeprep_train.motion.residual.data import Clips, GATE_FRAMES, OUT, PHASE_FRAMES, PORTABLE, SCALE, Skeleton, canonical, features, from_sixd, key_phase, mirror, prepare, quat_to_mat, rot_y, sample_keys, fill_keys, add_fill_args, fill_band, sixd, slerp  # noqa: E501
 from deeprep_train.motion.residual.net import Block, DILATIONS, ResidualTween, apply, arch, build, fk, grow, load_ema, net_input, upsample2  # noqa: E501
 from deeprep_train.motion.residual.losses import adversarial_view, losses, make_batch, npss_loss, spectral_l1, supervised  # noqa: E501
 from deeprep_train.motion.residual.evaluation import L2P_SD, evaluate, l2p_sd, pick  # noqa: E501
@@ -52,6 +52,7 @@ __all__ = [
     "sample_keys",
     "fill_keys",
     "add_fill_args",
+    "fill_band",
     "sixd",
     "slerp",
     "Block",

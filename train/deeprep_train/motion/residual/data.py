@@ -291,3 +291,15 @@ def add_fill_args(ap, network):
     ap.add_argument("--fill-up-to", type=int, default=0,
                     help=f"export: the longest gap the `model` fill gives this network (fill_up_to; a gap-filling "
                          f"network, --name {network})")
+
+
+def fill_band(args):
+    """The manifest's band from export's --fill-from / --fill-up-to (added by
+    add_fill_args): {"fill_up_to": B[, "fill_from": A]}, or {} for a network
+    that is not a gap-filling one; stops on a band motion::fill::band refuses."""
+    if args.fill_from and not 1 <= args.fill_from <= args.fill_up_to:
+        raise SystemExit("--fill-from needs --fill-up-to and 1 <= FROM <= UP_TO")
+    band = {"fill_up_to": args.fill_up_to} if args.fill_up_to else {}
+    if args.fill_from:
+        band["fill_from"] = args.fill_from
+    return band

@@ -8,7 +8,7 @@ import numpy as np
 import torch
 
 from deeprep_train.paths import ROOT
-from deeprep_train.motion.residual.data import Clips, GATE_FRAMES, PORTABLE, SCALE, Skeleton, features
+from deeprep_train.motion.residual.data import Clips, GATE_FRAMES, PORTABLE, SCALE, Skeleton, features, fill_band
 from deeprep_train.motion.residual.net import arch, build, net_input
 
 
@@ -30,13 +30,7 @@ def export(args):
     gen_manifest = json.load(open(os.path.join(ONNX_DIR, "tween_generator.manifest.json")))
     cin = 3 + 6 * skel.K + 4
     name = args.name
-    band = {}
-    if args.fill_up_to:
-        if not 1 <= (args.fill_from or 1) <= args.fill_up_to:
-            raise SystemExit("--fill-from needs --fill-up-to and 1 <= FROM <= UP_TO")
-        band = {"fill_from": args.fill_from or 1, "fill_up_to": args.fill_up_to}
-    elif args.fill_from:
-        raise SystemExit("--fill-from needs --fill-up-to")
+    band = fill_band(args)
     if name != "tween_residual" and not band:
         raise SystemExit(f"--name {name}: only a gap-filling network (--fill-up-to) is exported under another name")
     path = os.path.join(ONNX_DIR, f"{name}.onnx")
@@ -57,7 +51,7 @@ def export(args):
     if band:
         description = (f"the residual network fine-tuned on gaps in captured motion, every context frame a key "
                        f"(train/deeprep_train/motion/residual; issue 50): the `model` fill's network for gaps of "
-                       f"{band['fill_from']}-{band['fill_up_to']} frames")
+                       f"{band.get('fill_from', 1)}-{band['fill_up_to']} frames")
     write_json(os.path.join(ONNX_DIR, f"{name}.manifest.json"), {
         "name": name,
         "kind": "residual-tween",
