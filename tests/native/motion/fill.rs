@@ -461,30 +461,16 @@ fn the_bundled_gap_filling_network_serves_its_band() {
     let input = tmp.join("in.bvh");
     std::fs::write(&input, clip_text(400)).unwrap();
     // gaps of fill_from and fill_up_to frames, one shorter, one longer
-    let gaps = [(40, from), (100, up_to), (200, from - 1), (280, up_to + 15)];
+    let longer = up_to + 15;
+    let gaps = [(40, from), (100, up_to), (200, from - 1), (280, longer)];
     let specs: Vec<String> = gaps
         .iter()
         .map(|&(s, n)| format!("{s}-{}", s + n - 1))
         .collect();
-    let out = tmp.join("out.bvh");
-    let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_deeprep"));
-    cmd.args(["inbetween", "--from-bvh", input.to_str().unwrap()]);
-    for s in &specs {
-        cmd.args(["--fill", s]);
-    }
-    let o = cmd
-        .args([
-            "-o",
-            out.to_str().unwrap(),
-            "--models",
-            dir.to_str().unwrap(),
-        ])
-        .output()
-        .unwrap();
-    let info = String::from_utf8_lossy(&o.stderr).to_string();
-    assert!(o.status.success(), "{info}");
+    let gap_args: Vec<&str> = specs.iter().map(String::as_str).collect();
+    let (ok, _, info) = fill_with(&tmp, &dir, &input, &gap_args, "model");
+    assert!(ok, "{info}");
     // the longer gap: the long-gap network where its band holds it, else the residual network
-    let longer = up_to + 15;
     let beyond = match std::fs::read_to_string(dir.join("tween_fill_long.manifest.json")) {
         Ok(t) => {
             let m: serde_json::Value = serde_json::from_str(&t).unwrap();
