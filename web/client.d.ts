@@ -8,7 +8,7 @@ export interface SynthesisResult {
    *  for the CLI: 'model' runs the residual network where its manifest makes it the default and
    *  the keys are whole poses without DNA, else the conditional network where its manifest makes
    *  it the default for partial keys and it reads them, else the generator. */
-  ran: 'residual' | 'cond' | 'cond-dna' | 'fill' | 'fill-long' | 'generator' | 'slerp' | 'zerovel' | 'hermite';
+  ran: 'residual' | 'cond' | 'cond-dna' | 'fill-mlp' | 'fill' | 'fill-long' | 'generator' | 'slerp' | 'zerovel' | 'hermite';
   /** The variation it ran at: the request's, else the chosen pipeline's own default (0 for SLERP+LERP). */
   variation: number;
   /** BVH text, 60 fps, the model's skeleton; empty when the request said `bvh: false`. */
@@ -144,6 +144,9 @@ export class DeeprepClient {
   /** Whether the long-gap filling network is bundled (`fillGaps` with method `'fill-long'`, and `'model'` on
    *  the gap lengths its manifest gives it; loaded on the first such call). */
   readonly hasFillLong: boolean;
+  /** Whether the short-gap fill network is bundled (`fillGaps` with method `'fill-mlp'`, and `'model'` on the
+   *  gap lengths its manifest gives it, before the other networks' bands; loaded on the first such call). */
+  readonly hasFillMlp: boolean;
   /** The variation a request without one gets: the model manifest's (chosen on training takes). */
   readonly defaultVariation?: number;
   readonly modelError?: string;
@@ -159,12 +162,14 @@ export class DeeprepClient {
   /** Fills gaps in captured motion: each { start, end } (inclusive frames of the clip) is synthesized
    *  from `context.before` frames before it and `context.after` after it (defaults 20 and 1); every
    *  other frame comes back exactly as it was. Bad ranges (reversed, outside the clip, overlapping,
-   *  touching the clip's ends) reject with E_BAD_INPUT. 'model' (the default) fills short gaps with the
-   *  context-tangent Hermite curve, the gap-filling network's band (`hasFill`; 25-45 frames) with it, the
-   *  long-gap filling network's band (`hasFillLong`) with that one and longer gaps with the residual
-   *  network; 'fill' and 'fill-long' run that network on every gap. */
+   *  touching the clip's ends) reject with E_BAD_INPUT. 'model' (the default) gives each gap-filling
+   *  network the gap lengths its manifest claims, in this order: the short-gap fill network
+   *  (`hasFillMlp`), the gap-filling network (`hasFill`), the long-gap filling network (`hasFillLong`);
+   *  other gaps up to 45 frames get the context-tangent Hermite curve, longer ones the residual network.
+   *  'fill-mlp', 'fill' and 'fill-long' run that network on every gap. */
   fillGaps(bvh: string | Uint8Array | ArrayBuffer, gaps: { start: number; end: number }[],
-    opts?: { method?: 'model' | 'fill' | 'fill-long' | 'residual' | 'cond' | 'slerp' | 'zerovel' | 'hermite'; context?: { before?: number; after?: number };
+    opts?: { method?: 'model' | 'fill-mlp' | 'fill' | 'fill-long' | 'residual' | 'cond' | 'slerp' | 'zerovel' | 'hermite';
+      context?: { before?: number; after?: number };
       signal?: AbortSignal }): Promise<SynthesisResult>;
   /** A humanoid clip (BVH text or bytes) on another skeleton: `to` is BVH text or bytes whose
    *  skeleton receives the motion (its own motion is ignored), or 'model' (the default). `map`

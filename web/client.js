@@ -114,6 +114,7 @@ export class DeeprepClient {
     c.condDna = info.condDna === true; // ... and it takes Motion DNA (`dna` with method 'cond': the DNA network, tween_cond_dna)
     c.hasFill = info.hasFill === true; // the gap-filling network (fillGaps' method 'fill', and 'model' on the gaps its manifest gives it)
     c.hasFillLong = info.hasFillLong === true; // the long-gap filling network (method 'fill-long', and 'model' on its band)
+    c.hasFillMlp = info.hasFillMlp === true; // the short-gap fill network (method 'fill-mlp', and 'model' on its band, first)
     c.defaultVariation = info.defaultVariation;
     c.modelError = info.modelError;
     c.wasm = info.wasm; // the wasm build the worker runs: 'relaxed-simd' or 'simd128'
@@ -139,7 +140,8 @@ export class DeeprepClient {
   /** Fills gaps in captured motion: `bvh` is BVH text or bytes (the model's skeleton or another
    * humanoid's, any frame rate), `gaps` a list of { start, end } (inclusive frames of the clip).
    * Each gap is synthesized from `context.before` frames before it and `context.after` after it
-   * (defaults 20 and 1) by `method` ('model', 'fill', 'fill-long', 'residual', 'cond', 'slerp', 'zerovel' or 'hermite');
+   * (defaults 20 and 1) by `method` ('model', 'fill-mlp', 'fill', 'fill-long', 'residual', 'cond', 'slerp', 'zerovel'
+   * or 'hermite');
    * every other frame comes back exactly as it was. Bad ranges (reversed, outside the clip,
    * overlapping, touching the clip's ends) reject with E_BAD_INPUT. */
   fillGaps(bvh, gaps, { method = 'model', context = {}, signal } = {}) {

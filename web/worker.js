@@ -62,7 +62,10 @@ let condDnaManifest = null;
 let condDnaForModel = false;
 // the gap-filling networks' manifests (issue 50) and the gap lengths the
 // `model` fill gives each ([fill_from, fill_up_to]; motion::fill::method_for):
+// 'fill-mlp' (tween_fill_mlp, the short-gap network over a gap's edges),
 // 'fill' (tween_fill) and 'fill-long' (tween_fill_long, a residual network)
+let fillMlpManifest = null;
+let fillMlpRange = null;
 let fillManifest = null;
 let fillRange = null;
 let fillLongManifest = null;
@@ -76,18 +79,27 @@ function bandOf(manifest) {
   } catch { return null; }
 }
 
-/** Whether a fillGaps request runs the gap-filling network `name` ('fill' or
- * 'fill-long') whose band is `range`, so that it is loaded first: that
- * method, or 'model' with a gap whose length (frames inside it) is in the
- * band and not in 'fill''s, which motion::fill::method_for tries first. */
-function needsFill(msg, name, range) {
+/** The gap-filling network the `model` fill gives a gap of `len` frames
+ * (motion::fill::method_for's order: 'fill-mlp', 'fill', 'fill-long', each
+ * on its manifest's band), or null where none does. */
+function fillNetworkFor(len) {
+  const inside = (r) => r && len >= r[0] && len <= r[1];
+  if (inside(fillMlpRange)) return 'fill-mlp';
+  if (inside(fillRange)) return 'fill';
+  if (inside(fillLongRange)) return 'fill-long';
+  return null;
+}
+
+/** Whether a fillGaps request runs the gap-filling network `name` ('fill-mlp',
+ * 'fill' or 'fill-long'), so that it is loaded first: that method, or
+ * 'model' with a gap (its length: frames inside it) that fillNetworkFor
+ * gives it. */
+function needsFill(msg, name) {
   const method = msg.method || 'model';
   if (method === name) return true;
-  if (method !== 'model' || !range || !Array.isArray(msg.gaps)) return false;
-  const inside = (len, r) => r && len >= r[0] && len <= r[1];
+  if (method !== 'model' || !Array.isArray(msg.gaps)) return false;
   for (let i = 0; i + 1 < msg.gaps.length; i += 2) {
-    const len = msg.gaps[i + 1] + 1 - msg.gaps[i];
-    if (inside(len, range) && (name === 'fill' || !inside(len, fillRange))) return true;
+    if (fillNetworkFor(msg.gaps[i + 1] + 1 - msg.gaps[i]) === name) return true;
   }
   return false;
 }
@@ -140,6 +152,7 @@ function modelUrls(base) {
              condDna: at('tween_cond_dna.onnx'), condDnaManifest: at('tween_cond_dna.manifest.json'),
              fill: at('tween_fill.onnx'), fillManifest: at('tween_fill.manifest.json'),
              fillLong: at('tween_fill_long.onnx'), fillLongManifest: at('tween_fill_long.manifest.json'),
+             fillMlp: at('tween_fill_mlp.onnx'), fillMlpManifest: at('tween_fill_mlp.manifest.json'),
              ik: at('ik.onnx'), ikManifest: at('ik.manifest.json') };
   }
   return {
@@ -156,6 +169,8 @@ function modelUrls(base) {
     fillManifest: new URL('./models/tween_fill.manifest.json', import.meta.url).href,
     fillLong: new URL('./models/tween_fill_long.onnx', import.meta.url).href,
     fillLongManifest: new URL('./models/tween_fill_long.manifest.json', import.meta.url).href,
+    fillMlp: new URL('./models/tween_fill_mlp.onnx', import.meta.url).href,
+    fillMlpManifest: new URL('./models/tween_fill_mlp.manifest.json', import.meta.url).href,
     ik: new URL('./models/ik.onnx', import.meta.url).href,
     ikManifest: new URL('./models/ik.manifest.json', import.meta.url).href,
   };
@@ -201,6 +216,7 @@ async function handleInit(msg) {
     condDna: manifestOf(msg.models?.condDna, urls.condDnaManifest),
     fill: manifestOf(msg.models?.fill, urls.fillManifest),
     fillLong: manifestOf(msg.models?.fillLong, urls.fillLongManifest),
+    fillMlp: manifestOf(msg.models?.fillMlp, urls.fillMlpManifest),
   };
   try {
     let g, p, m;
@@ -274,10 +290,19 @@ async function handleInit(msg) {
     }
     if (msg.models?.fillLong) {
       model.setFillLong(new Uint8Array(msg.models.fillLong), msg.models.fillLongManifest);
+      fillLongRange = bandOf(msg.models.fillLongManifest);
     } else {
       fillLongManifest = await manifests.fillLong;
       fillLongRange = bandOf(fillLongManifest);
       if (!fillLongRange) fillLongManifest = null;
+    }
+    if (msg.models?.fillMlp) {
+      model.setFillMlp(new Uint8Array(msg.models.fillMlp), msg.models.fillMlpManifest);
+      fillMlpRange = bandOf(msg.models.fillMlpManifest);
+    } else {
+      fillMlpManifest = await manifests.fillMlp;
+      fillMlpRange = bandOf(fillMlpManifest);
+      if (!fillMlpRange) fillMlpManifest = null;
     }
     // One plan for any length now, so the first synthesis of each length
     // does not wait for tract to optimize one (runtime::Model::prepare_any_shape),
@@ -298,6 +323,7 @@ async function handleInit(msg) {
                   condDna: condDna || model.hasCondDna || condDnaManifest !== null,
                   hasFill: model.hasFill || fillManifest !== null,
                   hasFillLong: model.hasFillLong || fillLongManifest !== null,
+                  hasFillMlp: model.hasFillMlp || fillMlpManifest !== null,
                   defaultVariation: model.defaultVariation, wasm: wasmBuild });
     warmWhenIdle(WARM_UP_ROUNDS.whenIdle);
   } catch (e) {
@@ -464,9 +490,11 @@ function lazyNetworks() {
     { name: 'the Motion DNA network', has: () => model.hasCondDna, manifest: condDnaManifest, url: urls.condDna,
       set: (b, m) => model.setCondDna(b, m), runs: needsCondDna },
     { name: 'the gap-filling network', has: () => model.hasFill, manifest: fillManifest, url: urls.fill,
-      set: (b, m) => model.setFill(b, m), runs: (msg) => msg.type === 'fillGaps' && needsFill(msg, 'fill', fillRange) },
+      set: (b, m) => model.setFill(b, m), runs: (msg) => msg.type === 'fillGaps' && needsFill(msg, 'fill') },
     { name: 'the long-gap filling network', has: () => model.hasFillLong, manifest: fillLongManifest, url: urls.fillLong,
-      set: (b, m) => model.setFillLong(b, m), runs: (msg) => msg.type === 'fillGaps' && needsFill(msg, 'fill-long', fillLongRange) },
+      set: (b, m) => model.setFillLong(b, m), runs: (msg) => msg.type === 'fillGaps' && needsFill(msg, 'fill-long') },
+    { name: 'the short-gap fill network', has: () => model.hasFillMlp, manifest: fillMlpManifest, url: urls.fillMlp,
+      set: (b, m) => model.setFillMlp(b, m), runs: (msg) => msg.type === 'fillGaps' && needsFill(msg, 'fill-mlp') },
   ];
 }
 

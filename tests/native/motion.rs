@@ -642,6 +642,7 @@ fn foot_locking_pins_a_sliding_foot_and_keeps_keys_exact() {
 mod clips;
 mod cond;
 mod fill;
+mod fill_mlp;
 mod keys;
 mod pipeline;
 mod retargeted;

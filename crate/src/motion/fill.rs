@@ -106,10 +106,14 @@ pub fn band(from: Option<usize>, up_to: Option<usize>) -> Result<Option<(usize, 
 }
 
 /// The loaded gap-filling networks' bands, as [`method_for`] reads them:
-/// `fill` (`tween_fill`, the conditional network's line) and `fill-long`
-/// (`tween_fill_long`, the residual network fine-tuned on long gaps).
+/// `fill-mlp` (`tween_fill_mlp`, the short-gap network over the gap's
+/// edges, [`super::fill_mlp`]), `fill` (`tween_fill`, the conditional
+/// network's line) and `fill-long` (`tween_fill_long`, the residual network
+/// fine-tuned on long gaps).
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 pub struct Bands {
+    /// `fill-mlp`'s band, when it is loaded.
+    pub fill_mlp: Option<(usize, usize)>,
     /// `fill`'s band, when it is loaded and its manifest gives one.
     pub fill: Option<(usize, usize)>,
     /// `fill-long`'s band, likewise.
@@ -118,12 +122,14 @@ pub struct Bands {
 
 /// What fills a gap of `len` frames when `method` is asked: "model" is the
 /// gap-filling network whose band (its manifest's `fill_from..=fill_up_to`)
-/// holds the gap's length where one is loaded ("fill", then "fill-long"),
+/// holds the gap's length where one is loaded ("fill-mlp", then "fill",
+/// then "fill-long"),
 /// else "hermite" up to [`HERMITE_MAX_GAP`] frames and the networks'
 /// default beyond; every other method is itself.
 pub fn method_for(method: &str, len: usize, bands: Bands) -> &str {
     let holds = |b: Option<(usize, usize)>| b.is_some_and(|(lo, hi)| (lo..=hi).contains(&len));
     match method {
+        "model" if holds(bands.fill_mlp) => "fill-mlp",
         "model" if holds(bands.fill) => "fill",
         "model" if holds(bands.fill_long) => "fill-long",
         "model" if len <= HERMITE_MAX_GAP => "hermite",
@@ -340,6 +346,18 @@ pub fn hermite_curve(e: &HermiteEnds, n: usize) -> Vec<(DVec3, Vec<DQuat>)> {
         .collect()
 }
 
+/// The gap in one gap's key span (`ck`, as [`fill`] gives it): the one
+/// break in its run of key frames, as (the index of the last key before
+/// it, that key's frame `a`, the first frame after it `b`).
+pub(crate) fn gap_of(ck: &ClipKeys) -> Result<(usize, usize, usize)> {
+    let frames = &ck.clip_frames;
+    let at = frames
+        .windows(2)
+        .position(|w| w[1] > w[0] + 1)
+        .ok_or_else(|| Error::Invalid("a fill's keys leave no gap".into()))?;
+    Ok((at, frames[at], frames[at + 1]))
+}
+
 /// The context-tangent Hermite curve over one gap's key span (`ck` on
 /// `clip`): the context frames as they are, the gap's frames on
 /// [`hermite_curve`] from the last frame before it to the first after it
@@ -347,12 +365,7 @@ pub fn hermite_curve(e: &HermiteEnds, n: usize) -> Vec<(DVec3, Vec<DQuat>)> {
 pub fn hermite(clip: &Bvh, ck: &ClipKeys) -> Result<Motion> {
     let pose = |f: usize| Keyframe::from_bvh(clip, f, 0);
     let frames = &ck.clip_frames;
-    // the gap: the one break in the run of key frames
-    let at = frames
-        .windows(2)
-        .position(|w| w[1] > w[0] + 1)
-        .ok_or_else(|| Error::Invalid("a fill's keys leave no gap".into()))?;
-    let (a, b) = (frames[at], frames[at + 1]);
+    let (at, a, b) = gap_of(ck)?;
     let (ka, kb) = (pose(a)?, pose(b)?);
     let prev = (at > 0).then(|| pose(frames[at - 1])).transpose()?;
     let next = (at + 2 < frames.len())
@@ -458,7 +471,7 @@ mod tests {
         let none = Bands::default();
         let fill = |b| Bands {
             fill: Some(b),
-            fill_long: None,
+            ..Bands::default()
         };
         assert_eq!(method_for("model", 10, none), "hermite");
         assert_eq!(method_for("model", HERMITE_MAX_GAP + 1, none), "model");
@@ -475,6 +488,7 @@ mod tests {
         let both = Bands {
             fill: Some((25, 45)),
             fill_long: Some((46, 120)),
+            ..Bands::default()
         };
         assert_eq!(method_for("model", 24, both), "hermite");
         assert_eq!(method_for("model", 45, both), "fill");
@@ -484,6 +498,18 @@ mod tests {
         // a named method is itself
         assert_eq!(method_for("hermite", 500, both), "hermite");
         assert_eq!(method_for("residual", 60, both), "residual");
+        // the short-gap network takes its band first, where it overlaps
+        // the others'; the rest stays theirs
+        let three = Bands {
+            fill_mlp: Some((10, 30)),
+            ..both
+        };
+        assert_eq!(method_for("model", 9, three), "hermite");
+        assert_eq!(method_for("model", 10, three), "fill-mlp");
+        assert_eq!(method_for("model", 30, three), "fill-mlp");
+        assert_eq!(method_for("model", 31, three), "fill");
+        assert_eq!(method_for("model", 46, three), "fill-long");
+        assert_eq!(method_for("fill", 20, three), "fill");
     }
 
     #[test]

@@ -14,6 +14,8 @@
 //! - [`keys`]: the keys file (JSON) of the CLI and the examples.
 //! - [`manifest`]: the networks' manifest, checked without the runtime.
 //! - [`feet`]: foot locking (contacts pinned by two-bone IK; not in the thesis).
+//! - [`fill`]: gaps in captured motion filled from the frames around them;
+//!   [`fill_mlp`], the short-gap fill network it runs.
 
 pub mod baseline;
 pub mod clip;
@@ -23,6 +25,8 @@ pub mod dna;
 pub mod edit;
 pub mod feet;
 pub mod fill;
+#[cfg(feature = "onnx")]
+pub mod fill_mlp;
 pub mod keys;
 pub mod manifest;
 #[cfg(feature = "onnx")]

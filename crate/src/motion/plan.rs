@@ -127,6 +127,31 @@ pub struct ResidualInfo {
     pub fill_gaps: Option<(usize, usize)>,
 }
 
+impl ResidualInfo {
+    /// This network as the long-gap filling network (`tween_fill_long`):
+    /// an error unless its manifest gives a band, without which the `model`
+    /// fill would never run it.
+    pub fn as_fill_long_network(self) -> Result<Self> {
+        if self.fill_gaps.is_some() {
+            Ok(self)
+        } else {
+            Err(Error::Invalid(
+                "the long-gap filling network's manifest gives no band (fill_up_to)".into(),
+            ))
+        }
+    }
+}
+
+/// Whether `method` runs a network (on the model's skeleton: a clip on
+/// another skeleton is retargeted onto it first), for requests with keys
+/// ([`METHODS`]) and for fills (`fill-mlp` too, [`super::fill::method_for`]).
+pub fn runs_network(method: &str) -> bool {
+    matches!(
+        method,
+        "model" | "generator" | "residual" | "cond" | "fill" | "fill-long" | "fill-mlp"
+    )
+}
+
 /// A request, as the planner needs it.
 #[derive(Copy, Clone, Debug)]
 pub struct Ask<'a> {
@@ -280,6 +305,31 @@ pub fn plan(ask: &Ask, loaded: &Loaded) -> Result<Plan> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn which_methods_run_a_network() {
+        for m in METHODS {
+            assert_eq!(runs_network(m), !matches!(m, "slerp" | "zerovel"), "{m}");
+        }
+        assert!(runs_network("fill-mlp"));
+        assert!(!runs_network("hermite") && !runs_network("nonsense"));
+    }
+
+    #[test]
+    fn a_long_gap_filling_network_needs_a_band() {
+        let r = ResidualInfo {
+            variation: 1.0,
+            default_for_whole_pose_keys: false,
+            fill_gaps: None,
+        };
+        let e = r.as_fill_long_network().unwrap_err().to_string();
+        assert!(e.contains("no band"), "{e}");
+        let banded = ResidualInfo {
+            fill_gaps: Some((46, 120)),
+            ..r
+        };
+        assert_eq!(banded.as_fill_long_network().unwrap(), banded);
+    }
     use crate::rotation::Mat3;
 
     fn pose(frame: usize) -> Keyframe {

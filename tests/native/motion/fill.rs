@@ -253,7 +253,7 @@ fn a_gap_filling_network_takes_the_gaps_its_manifest_claims() {
 /// `--method fill-long` names it. The stand-in is the bundled residual
 /// network itself under that name, so on its gap the `model` fill must
 /// write what `--method residual` writes, line for line; a manifest whose
-/// band is reversed is a clear error.
+/// band is reversed, or that gives none, is a clear error.
 #[test]
 fn a_long_gap_filling_network_takes_the_gaps_its_manifest_claims() {
     if models().is_none() {
@@ -297,6 +297,16 @@ fn a_long_gap_filling_network_takes_the_gaps_its_manifest_claims() {
     let (ok, _, err) = fill("model");
     assert!(
         !ok && err.contains("tween_fill_long.manifest.json") && err.contains("fill_from 80"),
+        "{err}"
+    );
+    // without a band the `model` fill would never run it: refused, as wasm setFillLong does
+    let m = manifest.as_object_mut().unwrap();
+    m.remove("fill_from");
+    m.remove("fill_up_to");
+    write(&manifest);
+    let (ok, _, err) = fill("fill-long");
+    assert!(
+        !ok && err.contains("tween_fill_long.manifest.json") && err.contains("no band"),
         "{err}"
     );
     std::fs::remove_dir_all(&dir).ok();

@@ -14,7 +14,7 @@ Methods: slerp (SLERP+LERP from the last context frame to the target),
 zerovel (the last context frame held), hermite (a cubic Hermite curve whose
 end tangents are the context's velocities), residual (the network with
 every context frame a key), residual-2 (the network with only the last
-context frame and the target as keys), model (the CLI's default for fills:
+context frame and the target as keys), fill-mlp (the short-gap fill network), model (the CLI's default for fills:
 Hermite up to 45 frames, the network beyond; motion::fill::method_for).
 mix:A:B:S (an experiment, not a CLI method): the outputs of methods A and B
 (both listed too) mixed joint by joint, weight S on B.
@@ -50,6 +50,8 @@ METHODS = {
     "cond": ["--method", "cond"],
     # the gap-filling network (models/onnx/tween_fill.onnx, issue 50), every context frame a key
     "fill": ["--method", "fill"],
+    # the short-gap fill network (models/onnx/tween_fill_mlp.onnx, motion/fill_mlp.py) on the edges' frames
+    "fill-mlp": ["--method", "fill-mlp"],
     # the default: motion::fill::method_for (the gap-filling network on the gaps its manifest
     # gives it where one is bundled, else Hermite up to 45 frames; the residual network beyond)
     "model": ["--method", "model"],
@@ -68,6 +70,8 @@ def main():
     ap.add_argument("--after", type=lambda s: [int(x) for x in s.split(",")], default=[1, 20])
     ap.add_argument("--methods", type=lambda s: s.split(","), default=["slerp", "zerovel", "hermite", "residual", "model"])
     ap.add_argument("--every", type=int, default=1, help="every K-th clip of the split (a quicker look)")
+    ap.add_argument("--takes", type=lambda s: set(s.split(",")),
+                    help="only these takes of the split (motion.data.take_of names, e.g. indian/08,salsa/09)")
     ap.add_argument("--json")
     args = ap.parse_args()
     for m in args.methods:
@@ -83,7 +87,10 @@ def main():
                        "accel": [], "speed": [], "gt_speed": []}
            for m in args.methods for a in args.after for L in args.lengths}
     clips = [(cls, name) for cls in sorted(TRUE_FPS) for name in sorted(os.listdir(os.path.join(DATA, cls)))
-             if name.endswith(".bvh") and (take_of(cls, int(name[:-4])) in VALIDATION) == (args.split == "val")]
+             if name.endswith(".bvh") and (take_of(cls, int(name[:-4])) in VALIDATION) == (args.split == "val")
+             and (args.takes is None or take_of(cls, int(name[:-4])) in args.takes)]
+    if not clips:
+        sys.exit(f"no clip of the {args.split} split among --takes {sorted(args.takes or [])}")
     with tempfile.TemporaryDirectory() as tmp:
         for cls, name in clips[::args.every]:
             clip = os.path.join(tmp, f"{cls}_{name}")

@@ -162,7 +162,10 @@ fn loaded(o: &Opts) -> Result<deeprep::motion::plan::Loaded, String> {
             .transpose()
             .map_err(|e| format!("tween_cond_dna.manifest.json: {e}"))?,
         fill: cond_info("tween_fill.manifest.json")?,
-        fill_long: residual_info("tween_fill_long.manifest.json")?,
+        fill_long: residual_info("tween_fill_long.manifest.json")?
+            .map(|r| r.as_fill_long_network())
+            .transpose()
+            .map_err(|e| format!("tween_fill_long.manifest.json: {e}"))?,
     })
 }
 
@@ -326,14 +329,6 @@ fn dna_poses(
         .map(Some)
 }
 
-/// Whether `--method` runs a network (which reads the model's skeleton only).
-fn uses_network(method: &str) -> bool {
-    matches!(
-        method,
-        "model" | "generator" | "residual" | "cond" | "fill" | "fill-long"
-    )
-}
-
 /// The networks' skeleton (the generator's manifest; the residual
 /// network's is the same).
 fn model_skeleton(o: &Opts) -> Result<deeprep::skeleton::Bvh, String> {
@@ -364,10 +359,26 @@ fn fill(
     };
     let mut info: Vec<String> = Vec::new();
     let l = loaded(o)?;
+    // the short-gap network: its band from its manifest; loaded on the
+    // first gap that runs it
+    let dir = std::path::Path::new(&o.models);
+    let mlp_manifest = dir.join("tween_fill_mlp.manifest.json");
+    let fill_mlp = if mlp_manifest.exists() {
+        let text = std::fs::read_to_string(&mlp_manifest)
+            .map_err(|e| format!("{}: {e}", mlp_manifest.display()))?;
+        Some(
+            deeprep::motion::fill_mlp::band_of_manifest(&text)
+                .map_err(|e| format!("tween_fill_mlp.manifest.json: {e}"))?,
+        )
+    } else {
+        None
+    };
     let bands = fill::Bands {
+        fill_mlp,
         fill: l.fill.and_then(|f| f.fill_gaps),
         fill_long: l.fill_long.and_then(|f| f.fill_gaps),
     };
+    let mut mlp: Option<deeprep::motion::fill_mlp::FillMlp> = None;
     let filled = fill::fill(b, &gaps, ctx, &mut |clip, ck, gap| {
         let method = fill::method_for(&o.method, gap.len(), bands);
         if method == "hermite" {
@@ -376,6 +387,20 @@ fn fill(
                 gap.start, gap.end
             ));
             return fill::hermite(clip, ck);
+        }
+        if method == "fill-mlp" {
+            let net = match &mut mlp {
+                Some(net) => net,
+                None => mlp.insert(deeprep::motion::fill_mlp::FillMlp::load_named(
+                    dir,
+                    "tween_fill_mlp",
+                )?),
+            };
+            info.push(format!(
+                "{}-{}: the short-gap fill network (tween_fill_mlp) on the Hermite curve",
+                gap.start, gap.end
+            ));
+            return net.fill(clip, ck);
         }
         let asked = Opts {
             method: method.to_string(),
@@ -445,7 +470,7 @@ fn inbetween(args: &[&str]) -> Result<(), String> {
         let user = load(clip)?;
         // on another humanoid skeleton: retargeted onto the model's, the
         // result back onto the user's (slerp and zerovel work on any skeleton)
-        let on_model = if uses_network(&o.method) {
+        let on_model = if deeprep::motion::plan::runs_network(&o.method) {
             let tpl = model_skeleton(&o)?;
             Some(
                 deeprep::motion::clip::OnModel::new(&user, &tpl).map_err(|e| {

@@ -48,12 +48,13 @@ const USAGE: &str = "usage:
       makes it the default for partial keys and it takes them, with --dna the DNA network where
       its manifest makes it the default for DNA, the generator otherwise
   deeprep inbetween --from-bvh CLIP.bvh --fill S-E [--fill S-E ...] [--context B[,A]] -o OUT.bvh
-          [--method model|fill|fill-long|residual|generator|cond|hermite|slerp|zerovel] [--models DIR]
+          [--method model|fill-mlp|fill|fill-long|residual|generator|cond|hermite|slerp|zerovel] [--models DIR]
       gaps in captured motion filled: frames S to E (inclusive) of CLIP synthesized from the
       known frames around them (B before, A after; default 20,1), every other line of CLIP
       written unchanged; the default fills the gaps a gap-filling network claims with it
-      (--method fill: models/onnx/tween_fill.onnx; --method fill-long: models/onnx/
-      tween_fill_long.onnx; each where present, on the lengths its manifest's
+      (--method fill-mlp: models/onnx/tween_fill_mlp.onnx, first; --method fill: models/onnx/
+      tween_fill.onnx; --method fill-long: models/onnx/tween_fill_long.onnx; each where
+      present, on the lengths its manifest's
       fill_from..fill_up_to give), other gaps up to 45 frames with a cubic Hermite curve whose
       tangents are the context's velocities (--method hermite) and longer ones with the
       network; a gap reversed, outside the clip, touching its first or last frame, or

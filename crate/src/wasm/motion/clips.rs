@@ -106,10 +106,7 @@ impl Inbetweener {
             after.unwrap_or(fill::DEFAULT_CONTEXT.after as u32)
         ))
         .map_err(js_err)?;
-        let network = matches!(
-            method,
-            "model" | "residual" | "generator" | "cond" | "fill" | "fill-long"
-        );
+        let network = crate::motion::plan::runs_network(method);
         let on_model = if network {
             Some(clip::OnModel::new(&user, &self.inner.template).map_err(js_err)?)
         } else {
@@ -119,13 +116,28 @@ impl Inbetweener {
         let mut plan = None;
         let mut stage_ms = [0.0; 4];
         let bands = fill::Bands {
+            fill_mlp: self.fill_mlp.as_ref().map(|f| f.band()),
             fill: self.fill.as_ref().and_then(|f| f.info().fill_gaps),
             fill_long: self.fill_long.as_ref().and_then(|f| f.info().fill_gaps),
         };
+        // the method that filled the last gap (a network's pipeline, or a fill
+        // of its own: the curve or the short-gap network)
+        let mut last = "hermite";
         let filled = fill::fill(b, &gaps, ctx, &mut |c, ck, gap| {
             let method = fill::method_for(method, gap.len(), bands);
             if method == "hermite" {
+                last = "hermite";
                 return fill::hermite(c, ck);
+            }
+            if method == "fill-mlp" {
+                let net = self.fill_mlp.as_ref().ok_or_else(|| {
+                    crate::error::Error::Invalid(
+                        "method fill-mlp: the short-gap fill network is not loaded (setFillMlp)"
+                            .into(),
+                    )
+                })?;
+                last = "fill-mlp";
+                return net.fill(c, ck);
             }
             let served = crate::motion::serve::serve(
                 &self.models(),
@@ -139,6 +151,7 @@ impl Inbetweener {
                 *t += s;
             }
             plan = Some(served.plan);
+            last = served.plan.pipeline.name();
             Ok(served.motion)
         })
         .map_err(js_err)?;
@@ -155,7 +168,7 @@ impl Inbetweener {
             times: stage_ms.to_vec(),
             key_error: vec![0.0; 4],
             critical_frames: Vec::new(),
-            method: plan.as_ref().map_or("hermite", |p| p.pipeline.name()),
+            method: last,
             variation: plan.as_ref().map_or(0.0, |p| p.variation),
         })
     }

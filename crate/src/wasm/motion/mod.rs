@@ -19,6 +19,7 @@ pub struct Inbetweener {
     cond_dna: Option<crate::motion::cond::CondModel>,
     fill: Option<crate::motion::cond::CondModel>,
     fill_long: Option<crate::motion::residual::ResidualModel>,
+    fill_mlp: Option<crate::motion::fill_mlp::FillMlp>,
 }
 
 /// One synthesized motion.
@@ -135,6 +136,8 @@ impl InbetweenResult {
     /// (SLERP+LERP) or "zerovel", as `motion::plan` chose it: the "model"
     /// method runs the residual network where its manifest makes it the
     /// default and it takes the keys (whole poses, no DNA), else the generator.
+    /// For `fillGaps`, what filled the last gap: one of those, "hermite" (the
+    /// Hermite curve) or "fill-mlp" (the short-gap fill network).
     #[wasm_bindgen(getter)]
     pub fn method(&self) -> String {
         self.method.into()
@@ -220,6 +223,7 @@ impl Inbetweener {
             cond_dna: None,
             fill: None,
             fill_long: None,
+            fill_mlp: None,
         })
     }
 
@@ -415,11 +419,7 @@ impl Inbetweener {
     #[wasm_bindgen(js_name = setFillLong)]
     pub fn set_fill_long(&mut self, onnx: &[u8], manifest: &str) -> Result<(), JsError> {
         let m = self.residual_model(onnx, manifest)?;
-        if m.info().fill_gaps.is_none() {
-            return Err(JsError::new(
-                "the long-gap filling network's manifest gives no band (fill_up_to)",
-            ));
-        }
+        m.info().as_fill_long_network().map_err(js_err)?;
         self.fill_long = Some(m);
         Ok(())
     }
@@ -428,6 +428,24 @@ impl Inbetweener {
     #[wasm_bindgen(getter, js_name = hasFillLong)]
     pub fn has_fill_long(&self) -> bool {
         self.fill_long.is_some()
+    }
+
+    /// Adds the short-gap fill network (the bytes of `tween_fill_mlp.onnx`
+    /// and its manifest's text: an MLP over the gap's edges on the Hermite
+    /// curve, `motion::fill_mlp`): `fillGaps` runs it for method `fill-mlp`,
+    /// and for method `model` on the gaps its manifest gives it, before the
+    /// other networks' bands. Its manifest must give a band.
+    #[wasm_bindgen(js_name = setFillMlp)]
+    pub fn set_fill_mlp(&mut self, onnx: &[u8], manifest: &str) -> Result<(), JsError> {
+        self.fill_mlp =
+            Some(crate::motion::fill_mlp::FillMlp::new(onnx, manifest).map_err(js_err)?);
+        Ok(())
+    }
+
+    /// Whether [`Inbetweener::set_fill_mlp`] has loaded the short-gap fill network.
+    #[wasm_bindgen(getter, js_name = hasFillMlp)]
+    pub fn has_fill_mlp(&self) -> bool {
+        self.fill_mlp.is_some()
     }
 
     /// Whether [`Inbetweener::set_residual`] has loaded the residual network.
