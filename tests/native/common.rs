@@ -19,6 +19,15 @@ pub fn floats(v: &serde_json::Value) -> Vec<f32> {
         .collect()
 }
 
+/// A JSON array of numbers as f64.
+pub fn doubles(v: &serde_json::Value) -> Vec<f64> {
+    v.as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect()
+}
+
 /// A JSON array of non-negative integers (a shape).
 pub fn sizes(v: &serde_json::Value) -> Vec<usize> {
     v.as_array()

@@ -2,7 +2,7 @@
 //! whole request (features, network, output) against the Python training
 //! code's on the keys of `models/onnx/fixtures/runtime/tween_cond_motion.json` (not a network fixture: tests/parity reads only the top folder).
 
-use crate::common::{self, root};
+use crate::common::{self, doubles, root};
 use deeprep::motion::cond::{classify, CondModel, KeyClass};
 use deeprep::motion::Keyframe;
 use deeprep::rotation::Mat3;
@@ -16,14 +16,6 @@ fn model() -> Option<CondModel> {
     Some(CondModel::load_dir(&dir).unwrap())
 }
 
-fn floats(v: &serde_json::Value) -> Vec<f64> {
-    v.as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap())
-        .collect()
-}
-
 fn sixd(m: &Mat3<f64>) -> [f64; 6] {
     [m[0][0], m[1][0], m[2][0], m[0][1], m[1][1], m[2][1]]
 }
@@ -32,8 +24,8 @@ fn sixd(m: &Mat3<f64>) -> [f64; 6] {
 fn key(m: &CondModel, k: &serde_json::Value) -> Keyframe {
     let joints = m.template.joints.len();
     let frame = k["frame"].as_u64().unwrap() as usize;
-    let r = floats(&k["root"]);
-    let mut positions: Vec<f32> = floats(&k["positions"]).iter().map(|&v| v as f32).collect();
+    let r = doubles(&k["root"]);
+    let mut positions: Vec<f32> = doubles(&k["positions"]).iter().map(|&v| v as f32).collect();
     positions[..3].copy_from_slice(&[r[0] as f32, r[1] as f32, r[2] as f32]);
     let rotating: Vec<usize> = (0..joints)
         .filter(|&j| !m.template.joints[j].channels.is_empty())
@@ -41,7 +33,7 @@ fn key(m: &CondModel, k: &serde_json::Value) -> Keyframe {
     let eye: Mat3<f64> = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     let mut rotations = vec![eye; joints];
     for (s, row) in k["rotations"].as_array().unwrap().iter().enumerate() {
-        let v = floats(row);
+        let v = doubles(row);
         rotations[rotating[s]] = std::array::from_fn(|a| std::array::from_fn(|b| v[3 * a + b]));
     }
     let whole = Keyframe {
@@ -141,7 +133,7 @@ fn dna_of(case: &serde_json::Value) -> Option<Vec<Vec<f32>>> {
     Some(
         poses
             .iter()
-            .map(|p| floats(p).iter().map(|&v| v as f32).collect())
+            .map(|p| doubles(p).iter().map(|&v| v as f32).collect())
             .collect(),
     )
 }
@@ -174,11 +166,11 @@ fn replay(m: &CondModel, f: &serde_json::Value) {
         };
         let (mut d_root, mut d_rot) = (0.0f64, 0.0f64);
         for (i, t) in (0..frames).step_by(every).enumerate() {
-            let want = floats(&case["root"][i]);
+            let want = doubles(&case["root"][i]);
             for (o, w) in out.root[t].iter().zip(&want) {
                 d_root = d_root.max((o - w).abs());
             }
-            let want = floats(&case["sixd"][i]);
+            let want = doubles(&case["sixd"][i]);
             for (s, &j) in rotating.iter().enumerate() {
                 for (q, v) in sixd(&out.rotations[t][j]).iter().enumerate() {
                     d_rot = d_rot.max((v - want[6 * s + q]).abs());

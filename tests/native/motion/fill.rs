@@ -51,7 +51,7 @@ pub(crate) fn clip_text(frames: usize) -> String {
 /// `deeprep inbetween --from-bvh INPUT --fill G ... --method METHOD` with the
 /// models of `lib`, written to `DIR/METHOD.bvh`: (success, that file's text,
 /// stderr).
-fn fill_with(
+pub(crate) fn fill_with(
     dir: &std::path::Path,
     lib: &std::path::Path,
     input: &std::path::Path,

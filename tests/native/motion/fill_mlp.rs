@@ -5,6 +5,7 @@
 //! manifest claims; bad manifests are clear errors.
 
 use super::*;
+use crate::common::doubles;
 use deeprep::motion::fill_mlp::{band_of_manifest, Edges, FillMlp};
 use glam::{DQuat, DVec3};
 
@@ -12,23 +13,15 @@ fn fixture_dir() -> std::path::PathBuf {
     root().join("tests/fixtures/fill_mlp")
 }
 
-fn floats(v: &serde_json::Value) -> Vec<f64> {
-    v.as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap())
-        .collect()
-}
-
 /// A fixture frame: (root, quaternions [w, x, y, z] of the rotating joints).
 fn frame(v: &serde_json::Value) -> (DVec3, Vec<DQuat>) {
-    let r = floats(&v["root"]);
+    let r = doubles(&v["root"]);
     let q = v["quat"]
         .as_array()
         .unwrap()
         .iter()
         .map(|q| {
-            let q = floats(q);
+            let q = doubles(q);
             DQuat::from_xyzw(q[1], q[2], q[3], q[0])
         })
         .collect();
@@ -71,7 +64,7 @@ fn the_short_gap_network_reproduces_the_training_code() {
         let want_quat = case["quat"].as_array().unwrap();
         let (mut dr, mut dq) = (0.0f64, 0.0f64);
         for (i, (r, qs)) in got.iter().enumerate() {
-            let w = floats(&want_root[i]);
+            let w = doubles(&want_root[i]);
             dr = dr.max((*r - DVec3::new(w[0], w[1], w[2])).abs().max_element());
             let (_, wq) = frame(&serde_json::json!({"root": [0, 0, 0], "quat": want_quat[i]}));
             for (q, p) in qs.iter().zip(&wq) {
@@ -162,19 +155,9 @@ fn the_short_gap_network_takes_the_gaps_its_manifest_claims() {
     // 12 and 30 frames: in its band (10-30); 5: below it, the curve
     let gaps = ["40-51", "100-129", "200-204"];
     let fill = |method: &str| {
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_deeprep"))
-            .args(["inbetween", "--from-bvh", input.to_str().unwrap()])
-            .args(gaps.iter().flat_map(|g| ["--fill", g]))
-            .args(["--method", method, "--models", lib.to_str().unwrap()])
-            .args(["-o", dir.join(format!("{method}.bvh")).to_str().unwrap()])
-            .output()
-            .unwrap();
-        let err = String::from_utf8_lossy(&out.stderr).to_string();
-        assert!(out.status.success(), "{method}: {err}");
-        (
-            std::fs::read_to_string(dir.join(format!("{method}.bvh"))).unwrap(),
-            err,
-        )
+        let (ok, text, err) = super::fill::fill_with(&dir, &lib, &input, &gaps, method);
+        assert!(ok, "{method}: {err}");
+        (text, err)
     };
     let (model, info) = fill("model");
     assert!(
@@ -230,20 +213,8 @@ fn a_short_gap_manifest_without_a_band_is_a_clear_cli_error() {
     std::fs::write(lib.join("tween_fill_mlp.manifest.json"), m.to_string()).unwrap();
     let input = dir.join("in.bvh");
     std::fs::write(&input, super::fill::clip_text(120)).unwrap();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_deeprep"))
-        .args([
-            "inbetween",
-            "--from-bvh",
-            input.to_str().unwrap(),
-            "--fill",
-            "40-51",
-        ])
-        .args(["--models", lib.to_str().unwrap()])
-        .args(["-o", dir.join("out.bvh").to_str().unwrap()])
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&out.stderr).to_string();
-    assert!(!out.status.success());
+    let (ok, _, err) = super::fill::fill_with(&dir, &lib, &input, &["40-51"], "model");
+    assert!(!ok);
     assert!(
         err.contains("tween_fill_mlp.manifest.json") && err.contains("no band"),
         "{err}"
