@@ -26,7 +26,8 @@
 // `candidate_ran`): a network's speed is judged against the bundled one in one
 // run (train/README.md's bundle rules).
 // `fill_60_frames_in_512`: Inbetweener.fillGaps on a 60-frame gap of a 512-frame clip
-// (the default method and the Hermite curve), best of reps after a first call.
+// (the default method and the Hermite curve), best of reps after a first call;
+// `fill_30_frames_in_512` the same on a 30-frame gap (the short-gap or gap-filling network's band).
 // `partial_keys`: root-only keys at the same frames (each pose key's root
 // position), by the conditional network (`cond`, issue 47: at most 150 ms at
 // 2,048 frames) and by the generator pipeline (`generator`, what `model` runs
@@ -87,6 +88,11 @@ await withBenchPage(async (page) => {
     const longFiles = await Promise.all(['onnx', 'manifest.json'].map((x) => fetch(`../models/onnx/tween_fill_long.${x}`)));
     if (longFiles.every((r) => r.ok)) {
       withResidual.setFillLong(new Uint8Array(await longFiles[0].arrayBuffer()), await longFiles[1].text());
+    }
+    // the gap-filling and short-gap fill networks likewise (the default fill of a 30-frame gap)
+    for (const [name, set] of [['tween_fill', 'setFill'], ['tween_fill_mlp', 'setFillMlp']]) {
+      const files = await Promise.all(['onnx', 'manifest.json'].map((x) => fetch(`../models/onnx/${name}.${x}`)));
+      if (files.every((r) => r.ok)) withResidual[set](new Uint8Array(await files[0].arrayBuffer()), await files[1].text());
     }
     const plainResidual = inbetweener(plain, residual);
     const cand = candidate ? inbetweener(m, await get(`../${candidate}`).catch((e) => {
@@ -209,23 +215,25 @@ await withBenchPage(async (page) => {
     const base = withResidual.synthesize(fk, fc, 512, { post: true });
     const clipBytes = new TextEncoder().encode(base.bvh);
     base.free();
-    const fill = {};
-    for (const method of ['model', 'hermite']) {
-      let best = Infinity, ran = null;
-      for (let r = 0; r <= reps; r++) {
-        const t = performance.now();
-        const f = withResidual.fillGaps(clipBytes, new Uint32Array([200, 259]), method);
-        const ms = performance.now() - t;
-        if (r > 0) best = Math.min(best, ms); // the first call builds the plan for its length
-        ran = f.method;
-        f.free();
+    const fill = {}, fill30 = {};
+    for (const [out, gap] of [[fill, [200, 259]], [fill30, [200, 229]]]) {
+      for (const method of ['model', 'hermite']) {
+        let best = Infinity, ran = null;
+        for (let r = 0; r <= reps; r++) {
+          const t = performance.now();
+          const f = withResidual.fillGaps(clipBytes, new Uint32Array(gap), method);
+          const ms = performance.now() - t;
+          if (r > 0) best = Math.min(best, ms); // the first call builds the plan for its length
+          ran = f.method;
+          f.free();
+        }
+        out[method] = { ms: best, ran };
       }
-      fill[method] = { ms: best, ran };
     }
     // which matrix kernel the worker's build ran products with (runtime::matmul_kernel)
-    return { rows: out, warmUpMs, fill, matmulKernel: JSON.parse(m.OnnxModel.matmulKernel()) };
+    return { rows: out, warmUpMs, fill, fill30, matmulKernel: JSON.parse(m.OnnxModel.matmulKernel()) };
   }, { sizes, reps: smoke ? 1 : 3, candidate });
   console.log(JSON.stringify({ bench: 'inbetween', target: 'wasm (headless Chromium, SwiftShader, 1 thread)',
     ...(candidate ? { candidate } : {}), warm_up_ms: result.warmUpMs, matmul_kernel: result.matmulKernel,
-    fill_60_frames_in_512: result.fill, rows: result.rows }, null, 1));
+    fill_60_frames_in_512: result.fill, fill_30_frames_in_512: result.fill30, rows: result.rows }, null, 1));
 });

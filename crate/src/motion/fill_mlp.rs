@@ -35,6 +35,8 @@ struct Manifest {
     after: usize,
     terms: usize,
     t_norm: f64,
+    /// The longest gap it was trained on: longer ones are refused.
+    longest_gap: usize,
     inputs_len: usize,
     channels: usize,
     joints: Vec<String>,
@@ -70,15 +72,20 @@ impl Manifest {
         Ok(m)
     }
 
-    /// Its band, which this network must give.
+    /// Its band, which this network must give, within the gaps it was
+    /// trained on.
     fn band(&self) -> Result<(usize, usize)> {
-        super::fill::band(self.fill_from, self.fill_up_to)
-            .map_err(|e| Error::Invalid(format!("short-gap fill manifest: {e}")))?
-            .ok_or_else(|| {
-                Error::Invalid(
-                    "short-gap fill manifest: it gives no band (fill_from, fill_up_to)".into(),
-                )
-            })
+        let bad = |e: String| Error::Invalid(format!("short-gap fill manifest: {e}"));
+        let (lo, hi) = super::fill::band(self.fill_from, self.fill_up_to)
+            .map_err(|e| bad(e.to_string()))?
+            .ok_or_else(|| bad("it gives no band (fill_from, fill_up_to)".into()))?;
+        if hi > self.longest_gap {
+            return Err(bad(format!(
+                "fill_up_to {hi} is beyond the longest gap it was trained on ({})",
+                self.longest_gap
+            )));
+        }
+        Ok((lo, hi))
     }
 }
 
@@ -155,6 +162,12 @@ impl FillMlp {
             return Err(Error::Invalid(
                 "the short-gap fill network needs a gap and a known frame on each side".into(),
             ));
+        }
+        if t > self.m.longest_gap {
+            return Err(Error::Invalid(format!(
+                "a gap of {t} frames: the short-gap fill network (method fill-mlp) fills gaps of up to {} frames, the longest it was trained on; method model chooses a network by the gap's length",
+                self.m.longest_gap
+            )));
         }
         if !e.before.iter().chain(&e.after).all(ok) {
             return Err(Error::Invalid(format!(

@@ -83,8 +83,8 @@ fn the_short_gap_network_reproduces_the_training_code() {
     assert!(moved > 0.0);
 }
 
-/// The twin's input checks: no frame on a side, a gap of 0 frames, the
-/// wrong joint count are errors, not panics.
+/// The twin's input checks: no frame on a side, a gap of 0 frames or
+/// longer than it trained on, the wrong joint count are errors, not panics.
 #[test]
 fn the_short_gap_network_refuses_bad_edges() {
     let net = FillMlp::load_named(&fixture_dir(), "tween_fill_mlp").unwrap();
@@ -96,6 +96,13 @@ fn the_short_gap_network_refuses_bad_edges() {
     };
     assert_eq!(net.correct(&ok, 10).unwrap().len(), 10);
     assert!(net.correct(&ok, 0).is_err());
+    // beyond the longest gap it trained on (48 frames): refused, with the way out
+    assert_eq!(net.correct(&ok, 48).unwrap().len(), 48);
+    let e = net.correct(&ok, 49).unwrap_err().to_string();
+    assert!(
+        e.contains("up to 48 frames") && e.contains("method model"),
+        "{e}"
+    );
     let none = Edges {
         before: vec![],
         after: vec![pose.clone()],
@@ -128,6 +135,8 @@ fn a_short_gap_manifest_is_checked() {
     assert!(e.contains("no band"), "{e}");
     let e = err(&|v| v["fill_from"] = 40.into());
     assert!(e.contains("fill_from 40"), "{e}");
+    let e = err(&|v| v["fill_up_to"] = 60.into());
+    assert!(e.contains("beyond the longest gap"), "{e}");
     let e = err(&|v| v["inputs_len"] = 7.into());
     assert!(e.contains("inconsistent layout"), "{e}");
     let e = err(&|v| v["context"] = 100000000.into());

@@ -323,8 +323,9 @@ def export(args):
     net.eval()
     name = args.name
     ONNX_DIR = args.dir or ONNX_DIR_DEFAULT
-    if not 1 <= args.fill_from <= args.fill_up_to:
-        raise SystemExit("--fill-from and --fill-up-to must satisfy 1 <= from <= up to")
+    if not 1 <= args.fill_from <= args.fill_up_to <= T_RANGE[1]:
+        raise SystemExit(f"--fill-from and --fill-up-to must satisfy 1 <= from <= up to <= {T_RANGE[1]} "
+                         "(the longest gap it trains on)")
     data = Data()
     path = os.path.join(ONNX_DIR, f"{name}.onnx")
     # fixture windows: the pick set's first segment; (T, known before, known after)
@@ -348,7 +349,7 @@ def export(args):
                         f"{CTX} frames before and {AFT} after a gap that corrects the context-tangent Hermite curve "
                         f"across it; the `model` fill's network for gaps of {args.fill_from}-{args.fill_up_to} frames"),
         "fill_from": args.fill_from, "fill_up_to": args.fill_up_to,
-        "context": CTX, "after": AFT, "terms": M, "t_norm": T_NORM,
+        "context": CTX, "after": AFT, "terms": M, "t_norm": T_NORM, "longest_gap": T_RANGE[1],
         "inputs_len": ck["d_in"], "channels": ck["channels"],
         "joints": [data.skel.names[j] for j in data.skel.rotating],
         "inputs": [{"name": "x", "shape": ["batch", ck["d_in"]],
