@@ -61,13 +61,13 @@ def heading(q_hip):
     return rot_y(-torch.atan2(f[0], f[2]))
 
 
-def window_features(root, quat, T, c, A):
-    """One window of CTX + T + AFT frames (root [n,3], quat [n,K,4], double):
+def window_features(root, quat, T, c, A, ctx=CTX, aft=AFT):
+    """One window of ctx + T + aft frames (root [n,3], quat [n,K,4], double):
     the input x [D], the Hermite curve over the gap in the network's
     coordinates (w [T,K,3], r [T,3]), and the frame (q_a [K,4], r_a [3],
     C [3,3]) to take them back. c, A: frames known before / after (>= 1)."""
-    a, b = CTX - 1, CTX + T
-    idx = [max(i, a - c + 1) for i in range(CTX)] + [min(b + i, b + A - 1) for i in range(AFT)]
+    a, b = ctx - 1, ctx + T
+    idx = [max(i, a - c + 1) for i in range(ctx)] + [min(b + i, b + A - 1) for i in range(aft)]
     qa, ra = quat[a], root[a]
     C = heading(qa[0])
     w = _step(qa.expand(len(idx), -1, -1), quat[idx])
@@ -76,7 +76,7 @@ def window_features(root, quat, T, c, A):
     hermite_base([(a, b, a - 1 if c >= 2 else None, b + 1 if A >= 2 else None)], root, quat, base_r, base_q)
     hw = _step(qa.expand(T, -1, -1), base_q[a + 1:b])
     hr = (base_r[a + 1:b] - ra) @ C.T
-    x = torch.cat([w.flatten(), r.flatten(), torch.tensor([T / T_NORM, c / CTX, A / AFT], dtype=w.dtype)])
+    x = torch.cat([w.flatten(), r.flatten(), torch.tensor([T / T_NORM, c / ctx, A / aft], dtype=w.dtype)])
     return x, hw, hr, (qa, ra, C)
 
 
@@ -103,9 +103,9 @@ def decode(coef, hw, hr, frame):
 
 
 class Net(nn.Module):
-    def __init__(self, d_in, channels, mean, std, out_scale, hidden=HIDDEN):
+    def __init__(self, d_in, channels, mean, std, out_scale, hidden=HIDDEN, ctx=CTX, aft=AFT):
         super().__init__()
-        self.hidden = hidden
+        self.hidden, self.ctx, self.aft = hidden, ctx, aft
         self.register_buffer("mean", mean)
         self.register_buffer("std", std)
         self.register_buffer("out_scale", out_scale)
@@ -149,9 +149,9 @@ class Data:
         mu, sd = l2p_stats()
         self.mu, self.sd = torch.tensor(mu, dtype=torch.float32), torch.tensor(sd, dtype=torch.float32)
 
-    def batch(self, rng, B, T, fixed=None):
+    def batch(self, rng, B, T, fixed=None, ctx=CTX, aft=AFT):
         """B windows with T gap frames from the fit takes (or, with fixed=(c, A,
-        windows), the given windows)."""
+        windows), the given windows), ctx frames before and aft after."""
         xs, hws, hrs, fr, gts, offs = [], [], [], [], [], []
         items = fixed[2] if fixed else range(B)
         for it in items:
@@ -160,20 +160,20 @@ class Data:
                 c, A = fixed[0], fixed[1]
                 off = self.skel.offsets
             else:
-                root, quat = self.clips.window(CTX + T + AFT, rng, among=~self.pick)
+                root, quat = self.clips.window(ctx + T + aft, rng, among=~self.pick)
                 off = self.skel.offsets
                 if rng.random() < 0.5:
                     root, quat = mirror(root, quat, self.skel)
                     off = self.skel.mirror_offsets
-                c = CTX if rng.random() < 0.8 else int(rng.integers(1, CTX + 1))
-                A = int(rng.choice([1, AFT])) if rng.random() < 0.7 else int(rng.integers(1, AFT + 1))
+                c = ctx if rng.random() < 0.8 else int(rng.integers(1, ctx + 1))
+                A = int(rng.choice([1, aft])) if rng.random() < 0.7 else int(rng.integers(1, aft + 1))
             root, quat = root.double(), quat.double()
-            x, hw, hr, frame = window_features(root, quat, T, c, A)
+            x, hw, hr, frame = window_features(root, quat, T, c, A, ctx, aft)
             xs.append(x.float())
             hws.append(hw.float())
             hrs.append(hr.float())
             fr.append([v.float() for v in frame])
-            gts.append((root[CTX:CTX + T].float(), quat[CTX:CTX + T].float(), root[CTX - 1].float()))
+            gts.append((root[ctx:ctx + T].float(), quat[ctx:ctx + T].float(), root[ctx - 1].float()))
             offs.append(off)
         frame = tuple(torch.stack([f[i] for f in fr]) for i in range(3))
         gt = tuple(torch.stack([g[i] for g in gts]) for i in range(3))
@@ -211,25 +211,28 @@ def loss_of(data, net, batch):
     return (l2p + 2.0 * vel + 4.0 * rot) / curve, l2p
 
 
-def look_windows(data, T, stride=40):
+def look_windows(data, T, ctx=CTX, aft=AFT, stride=40):
     """Fixed windows of the held-out training takes (every `stride` frames)."""
     out = []
-    n = CTX + T + AFT
+    n = ctx + T + aft
     for s0, ln, keep in zip(data.clips.starts, data.clips.lens, data.pick):
         if keep:
             out += [(data.clips.root[a:a + n], data.clips.quat[a:a + n]) for a in range(s0, s0 + ln - n + 1, stride)]
     return out
 
 
-def look(data, net, lengths=(10, 20, 30, 45), afters=(1, AFT)):
-    """L2P of the network and of the Hermite curve on the held-out training takes."""
+def look(data, net, lengths=(10, 20, 30, 45), afters=(1, 8)):
+    """L2P of the network and of the Hermite curve on the held-out training
+    takes: every frame of its context known before the gap, 1 or 8 after
+    (at most its own)."""
     net.eval()
     res = {}
     with torch.no_grad():
         for T in lengths:
-            ws = look_windows(data, T)
+            ws = look_windows(data, T, net.ctx, net.aft)
             for A in afters:
-                x, hw, hr, frame, (groot, gq, ra), offs = data.batch(None, 0, T, fixed=(CTX, A, ws))
+                x, hw, hr, frame, (groot, gq, ra), offs = data.batch(None, 0, T, fixed=(net.ctx, min(A, net.aft), ws),
+                                                                     ctx=net.ctx, aft=net.aft)
                 G = data.positions(groot, gq, offs)
                 root, q = decode(net(x), hw, hr, frame)
                 net_l2p = data.l2p(data.positions(root, q, offs), G, ra).mean().item()
@@ -241,11 +244,11 @@ def look(data, net, lengths=(10, 20, 30, 45), afters=(1, AFT)):
     return res
 
 
-def new_net(data, rng):
+def new_net(data, rng, hidden=HIDDEN, ctx=CTX, aft=AFT):
     """Input normalization and output scale from a sample of fit windows."""
     xs, res = [], []
     for T in range(T_RANGE[0], T_RANGE[1] + 1, 8):
-        x, hw, hr, frame, (groot, gq, ra), offs = data.batch(rng, 64, T)
+        x, hw, hr, frame, (groot, gq, ra), offs = data.batch(rng, 64, T, ctx=ctx, aft=aft)
         xs.append(x)
         qa, ra_, C = frame
         gw = _step(qa[:, None].expand(-1, T, -1, -1), gq)
@@ -254,18 +257,20 @@ def new_net(data, rng):
     x = torch.cat(xs)
     r = torch.cat(res)
     channels = r.shape[1]
-    return Net(x.shape[1], channels, x.mean(0), x.std(0) + 1e-3, r.std(0) + 1e-4)
+    return Net(x.shape[1], channels, x.mean(0), x.std(0) + 1e-3, r.std(0) + 1e-4, hidden, ctx, aft)
 
 
 def save(path, net, step, opt=None):
     torch.save({"step": step, "net": net.state_dict(), "d_in": net.mean.shape[0], "channels": net.channels,
-                "hidden": net.hidden, "opt": opt.state_dict() if opt else None}, path)
+                "hidden": net.hidden, "context": net.ctx, "after": net.aft,
+                "opt": opt.state_dict() if opt else None}, path)
 
 
 def load(path):
     ck = torch.load(path, weights_only=False)
     z = torch.zeros(ck["d_in"])
-    net = Net(ck["d_in"], ck["channels"], z, z + 1, torch.ones(ck["channels"]), ck.get("hidden", HIDDEN))
+    net = Net(ck["d_in"], ck["channels"], z, z + 1, torch.ones(ck["channels"]), ck.get("hidden", HIDDEN),
+              ck.get("context", CTX), ck.get("after", AFT))
     net.load_state_dict(ck["net"])
     return net, ck
 
@@ -286,13 +291,13 @@ def train(args):
         if ck["opt"]:
             opt.load_state_dict(ck["opt"])
     else:
-        net, step = new_net(data, rng), 0
+        net, step = new_net(data, rng, args.hidden, args.context, args.after), 0
         opt = torch.optim.AdamW(net.parameters(), args.lr, weight_decay=1e-4)
     t0 = time.time()
     log = open(os.path.join(args.out, "log.jsonl"), "a")
     while time.time() - t0 < args.minutes * 60:
         T = int(rng.integers(T_RANGE[0], T_RANGE[1] + 1))
-        loss, l2p = loss_of(data, net, data.batch(rng, args.batch, T))
+        loss, l2p = loss_of(data, net, data.batch(rng, args.batch, T, ctx=net.ctx, aft=net.aft))
         opt.zero_grad()
         loss.backward()
         opt.step()
@@ -331,8 +336,9 @@ def export(args):
     # fixture windows: the pick set's first segment; (T, known before, known after)
     root, quat = data.clips.root, data.clips.quat
     s0 = int(data.clips.starts[np.nonzero(data.pick)[0][0]])
-    cases = [(12, CTX, 1, s0 + 100), (30, 3, AFT, s0 + 400), (45, 1, 2, s0 + 700)]
-    feats = [window_features(root[s:s + CTX + T + AFT].double(), quat[s:s + CTX + T + AFT].double(), T, c, A)
+    ctx, aft = net.ctx, net.aft
+    cases = [(12, ctx, 1, s0 + 100), (30, min(3, ctx), aft, s0 + 400), (45, 1, min(2, aft), s0 + 700)]
+    feats = [window_features(root[s:s + ctx + T + aft].double(), quat[s:s + ctx + T + aft].double(), T, c, A, ctx, aft)
              for T, c, A, s in cases]
     x = feats[0][0].float()[None]
     torch.onnx.export(net, (x,), path, input_names=["x"], output_names=["coef"], opset_version=17,
@@ -346,10 +352,10 @@ def export(args):
         "name": name,
         "kind": "fill-mlp",
         "description": (f"the short-gap fill network (train/deeprep_train/motion/fill_mlp.py; issue 50): an MLP over "
-                        f"{CTX} frames before and {AFT} after a gap that corrects the context-tangent Hermite curve "
+                        f"{ctx} frames before and {aft} after a gap that corrects the context-tangent Hermite curve "
                         f"across it; the `model` fill's network for gaps of {args.fill_from}-{args.fill_up_to} frames"),
         "fill_from": args.fill_from, "fill_up_to": args.fill_up_to,
-        "context": CTX, "after": AFT, "terms": M, "t_norm": T_NORM, "longest_gap": T_RANGE[1],
+        "context": ctx, "after": aft, "terms": M, "t_norm": T_NORM, "longest_gap": T_RANGE[1],
         "inputs_len": ck["d_in"], "channels": ck["channels"],
         "joints": [data.skel.names[j] for j in data.skel.rotating],
         "inputs": [{"name": "x", "shape": ["batch", ck["d_in"]],
@@ -377,9 +383,9 @@ def export(args):
     for (T, c, A, s), (xc, hw, hr, frame) in zip(cases, feats):
         coef = torch.from_numpy(sess.run(None, {"x": xc.float()[None].numpy()})[0]).double()
         r, q = decode(coef, hw[None], hr[None], tuple(f[None] for f in frame))
-        w = slice(s, s + CTX + T + AFT)
+        w = slice(s, s + ctx + T + aft)
         wr, wq = root[w].double(), quat[w].double()
-        a, b = CTX - 1, CTX + T
+        a, b = ctx - 1, ctx + T
         known = lambda i: {"root": wr[i].tolist(), "quat": wq[i].tolist()}
         out.append({"t": T, "before": [known(i) for i in range(a - c + 1, a + 1)],
                     "after": [known(i) for i in range(b, b + A)],
@@ -416,7 +422,8 @@ def portable(args):
     to = args.to
     os.makedirs(os.path.dirname(os.path.abspath(to)), exist_ok=True)
     torch.save({"step": ck["step"], "net": {k: v.half() for k, v in net.state_dict().items()},
-                "d_in": ck["d_in"], "channels": ck["channels"], "hidden": ck.get("hidden", HIDDEN), "opt": None}, to)
+                "d_in": ck["d_in"], "channels": ck["channels"], "hidden": net.hidden, "context": net.ctx,
+                "after": net.aft, "opt": None}, to)
     print(f"wrote {to} (step {ck['step']}, {os.path.getsize(to) / 1e6:.1f} MB)")
 
 
@@ -430,6 +437,9 @@ def main():
     t.add_argument("--batch", type=int, default=64)
     t.add_argument("--lr", type=float, default=1e-3)
     t.add_argument("--seed", type=int, default=0)
+    t.add_argument("--hidden", type=int, default=HIDDEN)
+    t.add_argument("--context", type=int, default=CTX, help="frames before the gap it reads")
+    t.add_argument("--after", type=int, default=AFT, help="frames after the gap it reads")
     t.add_argument("--snapshot-every", type=int, default=1000)
     t.add_argument("--resume", action="store_true", help="from OUT/last.pt, else from --portable")
     t.add_argument("--portable", help="a portable checkpoint (fill_mlp portable) to resume from on a new machine")
