@@ -147,6 +147,10 @@ export class DeeprepClient {
   /** Whether the short-gap fill network is bundled (`fillGaps` with method `'fill-mlp'`, and `'model'` on the
    *  gap lengths its manifest gives it, before the other networks' bands; loaded on the first such call). */
   readonly hasFillMlp: boolean;
+  /** Each gap-filling network's band of the `'model'` fill's gap lengths (frames inside the gap,
+   *  `[from, to]` inclusive; null where the network is not bundled or claims none), tried in this order;
+   *  other gaps up to 45 frames get the Hermite curve, longer ones the residual network. */
+  readonly fillBands: { 'fill-mlp': [number, number] | null; fill: [number, number] | null; 'fill-long': [number, number] | null };
   /** The variation a request without one gets: the model manifest's (chosen on training takes). */
   readonly defaultVariation?: number;
   readonly modelError?: string;

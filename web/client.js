@@ -115,6 +115,8 @@ export class DeeprepClient {
     c.hasFill = info.hasFill === true; // the gap-filling network (fillGaps' method 'fill', and 'model' on the gaps its manifest gives it)
     c.hasFillLong = info.hasFillLong === true; // the long-gap filling network (method 'fill-long', and 'model' on its band)
     c.hasFillMlp = info.hasFillMlp === true; // the short-gap fill network (method 'fill-mlp', and 'model' on its band, first)
+    // each gap-filling network's band of the 'model' fill's gap lengths ([from, to] or null), tried in this order
+    c.fillBands = info.fillBands || { 'fill-mlp': null, fill: null, 'fill-long': null };
     c.defaultVariation = info.defaultVariation;
     c.modelError = info.modelError;
     c.wasm = info.wasm; // the wasm build the worker runs: 'relaxed-simd' or 'simd128'

@@ -324,6 +324,7 @@ async function handleInit(msg) {
                   hasFill: model.hasFill || fillManifest !== null,
                   hasFillLong: model.hasFillLong || fillLongManifest !== null,
                   hasFillMlp: model.hasFillMlp || fillMlpManifest !== null,
+                  fillBands: { 'fill-mlp': fillMlpRange, fill: fillRange, 'fill-long': fillLongRange },
                   defaultVariation: model.defaultVariation, wasm: wasmBuild });
     warmWhenIdle(WARM_UP_ROUNDS.whenIdle);
   } catch (e) {

@@ -66,11 +66,14 @@ try {
       throw new Error(`fillGaps: ${filled.frames} frames, changed frames ${changed.slice(0, 5)}...`);
     }
   }
-  // a 31-frame gap: the gap-filling network where the package has it (its manifest's band), fetched now
-  if (client.hasFill && filled.ran !== 'fill') throw new Error(`fillGaps ran '${filled.ran}' with the gap-filling network bundled`);
-  // a 61-frame gap: the long-gap filling network where the package has it, fetched now
-  const longFill = client.hasFillLong ? await client.fillGaps(fromClip.bvh, [{ start: 30, end: 90 }]) : null;
-  if (longFill && longFill.ran !== 'fill-long') throw new Error(`fillGaps ran '${longFill.ran}' on a 61-frame gap with the long-gap network bundled`);
+  // the network whose band (client.fillBands, in its order) holds a gap's length, fetched on its first use
+  const bandFor = (len) => Object.entries(client.fillBands).find(([, b]) => b && len >= b[0] && len <= b[1])?.[0];
+  // a 31-frame gap
+  if (bandFor(31) && filled.ran !== bandFor(31)) throw new Error(`fillGaps ran '${filled.ran}' on a 31-frame gap, '${bandFor(31)}' claims it`);
+  if (client.hasFill && !bandFor(31)) throw new Error(`no band holds a 31-frame gap: ${JSON.stringify(client.fillBands)}`);
+  // a 61-frame gap: the long-gap filling network where the package has it
+  const longFill = bandFor(61) ? await client.fillGaps(fromClip.bvh, [{ start: 30, end: 90 }]) : null;
+  if (client.hasFillLong && longFill?.ran !== 'fill-long') throw new Error(`fillGaps ran '${longFill?.ran}' on a 61-frame gap with the long-gap network bundled`);
   const reversed = await client.fillGaps(fromClip.bvh, [{ start: 60, end: 30 }]).then(() => null, (e) => e);
   if (reversed?.code !== 'E_BAD_INPUT' || !/reversed/.test(reversed.message)) throw new Error(`a reversed gap: ${reversed?.code} ${reversed?.message}`);
   // by the conditional network, which the worker loads on this first use
