@@ -221,10 +221,11 @@ def look_windows(data, T, ctx=CTX, aft=AFT, stride=40):
     return out
 
 
-def look(data, net, lengths=(10, 20, 30, 45), afters=(1, 8)):
+def look(data, net, lengths=(10, 20, 30, 45), afters=None):
     """L2P of the network and of the Hermite curve on the held-out training
-    takes: every frame of its context known before the gap, 1 or 8 after
-    (at most its own)."""
+    takes: every frame of its context known before the gap, 1 or all of
+    its own after it (`afters`)."""
+    afters = afters or (1, net.aft)
     net.eval()
     res = {}
     with torch.no_grad():
