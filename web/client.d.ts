@@ -111,8 +111,11 @@ export interface ImportedBvh {
 export interface CreateOptions {
   /** Folder with the model files, resolved against the page. Default: the package's models/. */
   modelBase?: string | URL;
-  /** The in-betweening models as bytes and text, instead of fetching them. */
-  models?: { generator: Uint8Array | ArrayBuffer; path: Uint8Array | ArrayBuffer; manifest: string };
+  /** The in-betweening models as bytes and text, instead of fetching them; `fillMlp` and
+   *  `fillMlpManifest` add a short-gap fill network (`tween_fill_mlp.onnx` and its manifest's text,
+   *  from `fill_mlp export`), which the package does not ship yet. */
+  models?: { generator: Uint8Array | ArrayBuffer; path: Uint8Array | ArrayBuffer; manifest: string;
+    fillMlp?: Uint8Array | ArrayBuffer; fillMlpManifest?: string };
   workerUrl?: URL | string;
   /** Download, compile and synthesis stages (id 0: start-up). */
   onProgress?: (p: Progress) => void;
@@ -144,8 +147,9 @@ export class DeeprepClient {
   /** Whether the long-gap filling network is bundled (`fillGaps` with method `'fill-long'`, and `'model'` on
    *  the gap lengths its manifest gives it; loaded on the first such call). */
   readonly hasFillLong: boolean;
-  /** Whether the short-gap fill network is bundled (`fillGaps` with method `'fill-mlp'`, and `'model'` on the
-   *  gap lengths its manifest gives it, before the other networks' bands; loaded on the first such call). */
+  /** Whether a short-gap fill network is loaded (`fillGaps` with method `'fill-mlp'`, and `'model'` on the
+   *  gap lengths its manifest gives it, before the other networks' bands). The package ships none yet:
+   *  `create({ models: { ..., fillMlp, fillMlpManifest } })` loads one. */
   readonly hasFillMlp: boolean;
   /** Each gap-filling network's band of the `'model'` fill's gap lengths (frames inside the gap,
    *  `[from, to]` inclusive; null where the network is not bundled or claims none), tried in this order;

@@ -114,7 +114,7 @@ export class DeeprepClient {
     c.condDna = info.condDna === true; // ... and it takes Motion DNA (`dna` with method 'cond': the DNA network, tween_cond_dna)
     c.hasFill = info.hasFill === true; // the gap-filling network (fillGaps' method 'fill', and 'model' on the gaps its manifest gives it)
     c.hasFillLong = info.hasFillLong === true; // the long-gap filling network (method 'fill-long', and 'model' on its band)
-    c.hasFillMlp = info.hasFillMlp === true; // the short-gap fill network (method 'fill-mlp', and 'model' on its band, first)
+    c.hasFillMlp = info.hasFillMlp === true; // a short-gap fill network given in create's models (method 'fill-mlp', and 'model' on its band, first)
     // each gap-filling network's band of the 'model' fill's gap lengths ([from, to] or null), tried in this order
     c.fillBands = info.fillBands || { 'fill-mlp': null, fill: null, 'fill-long': null };
     c.defaultVariation = info.defaultVariation;

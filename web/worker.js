@@ -79,6 +79,20 @@ function bandOf(manifest) {
   } catch { return null; }
 }
 
+/** A gap-filling network at init: loaded now where msg.models gives its bytes
+ * (`key`, and `${key}Manifest` its manifest's text), else its manifest (the
+ * promise `fetched`) kept for the first request that runs it, where it gives a
+ * band. Resolves to [manifest kept or null, band or null]. */
+async function bandedAtInit(msg, key, set, fetched) {
+  if (msg.models?.[key]) {
+    set(new Uint8Array(msg.models[key]), msg.models[`${key}Manifest`]);
+    return [null, bandOf(msg.models[`${key}Manifest`])];
+  }
+  const manifest = await fetched;
+  const band = bandOf(manifest);
+  return [band ? manifest : null, band];
+}
+
 /** The gap-filling network the `model` fill gives a gap of `len` frames
  * (motion::fill::method_for's order: 'fill-mlp', 'fill', 'fill-long', each
  * on its manifest's band), or null where none does. */
@@ -152,7 +166,6 @@ function modelUrls(base) {
              condDna: at('tween_cond_dna.onnx'), condDnaManifest: at('tween_cond_dna.manifest.json'),
              fill: at('tween_fill.onnx'), fillManifest: at('tween_fill.manifest.json'),
              fillLong: at('tween_fill_long.onnx'), fillLongManifest: at('tween_fill_long.manifest.json'),
-             fillMlp: at('tween_fill_mlp.onnx'), fillMlpManifest: at('tween_fill_mlp.manifest.json'),
              ik: at('ik.onnx'), ikManifest: at('ik.manifest.json') };
   }
   return {
@@ -169,8 +182,6 @@ function modelUrls(base) {
     fillManifest: new URL('./models/tween_fill.manifest.json', import.meta.url).href,
     fillLong: new URL('./models/tween_fill_long.onnx', import.meta.url).href,
     fillLongManifest: new URL('./models/tween_fill_long.manifest.json', import.meta.url).href,
-    fillMlp: new URL('./models/tween_fill_mlp.onnx', import.meta.url).href,
-    fillMlpManifest: new URL('./models/tween_fill_mlp.manifest.json', import.meta.url).href,
     ik: new URL('./models/ik.onnx', import.meta.url).href,
     ikManifest: new URL('./models/ik.manifest.json', import.meta.url).href,
   };
@@ -216,7 +227,10 @@ async function handleInit(msg) {
     condDna: manifestOf(msg.models?.condDna, urls.condDnaManifest),
     fill: manifestOf(msg.models?.fill, urls.fillManifest),
     fillLong: manifestOf(msg.models?.fillLong, urls.fillLongManifest),
-    fillMlp: manifestOf(msg.models?.fillMlp, urls.fillMlpManifest),
+    // the short-gap fill network: none is bundled yet (docs/fill.md), so the
+    // package has no file to fetch; msg.models.fillMlp (bytes and manifest)
+    // loads one
+    fillMlp: Promise.resolve(null),
   };
   try {
     let g, p, m;
@@ -280,30 +294,9 @@ async function handleInit(msg) {
       try { condDnaForModel = JSON.parse(condDnaManifest)?.default_for_dna === true; } catch { condDnaManifest = null; }
     }
     // The gap-filling networks (issue 50) on the first fillGaps that runs each (needsFill).
-    if (msg.models?.fill) {
-      model.setFill(new Uint8Array(msg.models.fill), msg.models.fillManifest);
-      fillRange = bandOf(msg.models.fillManifest);
-    } else {
-      fillManifest = await manifests.fill;
-      fillRange = bandOf(fillManifest);
-      if (!fillRange) fillManifest = null;
-    }
-    if (msg.models?.fillLong) {
-      model.setFillLong(new Uint8Array(msg.models.fillLong), msg.models.fillLongManifest);
-      fillLongRange = bandOf(msg.models.fillLongManifest);
-    } else {
-      fillLongManifest = await manifests.fillLong;
-      fillLongRange = bandOf(fillLongManifest);
-      if (!fillLongRange) fillLongManifest = null;
-    }
-    if (msg.models?.fillMlp) {
-      model.setFillMlp(new Uint8Array(msg.models.fillMlp), msg.models.fillMlpManifest);
-      fillMlpRange = bandOf(msg.models.fillMlpManifest);
-    } else {
-      fillMlpManifest = await manifests.fillMlp;
-      fillMlpRange = bandOf(fillMlpManifest);
-      if (!fillMlpRange) fillMlpManifest = null;
-    }
+    [fillManifest, fillRange] = await bandedAtInit(msg, 'fill', (b, m) => model.setFill(b, m), manifests.fill);
+    [fillLongManifest, fillLongRange] = await bandedAtInit(msg, 'fillLong', (b, m) => model.setFillLong(b, m), manifests.fillLong);
+    [fillMlpManifest, fillMlpRange] = await bandedAtInit(msg, 'fillMlp', (b, m) => model.setFillMlp(b, m), manifests.fillMlp);
     // One plan for any length now, so the first synthesis of each length
     // does not wait for tract to optimize one (runtime::Model::prepare_any_shape),
     // then the code a request runs, so that the user's first is not the one
@@ -494,8 +487,6 @@ function lazyNetworks() {
       set: (b, m) => model.setFill(b, m), runs: (msg) => msg.type === 'fillGaps' && needsFill(msg, 'fill') },
     { name: 'the long-gap filling network', has: () => model.hasFillLong, manifest: fillLongManifest, url: urls.fillLong,
       set: (b, m) => model.setFillLong(b, m), runs: (msg) => msg.type === 'fillGaps' && needsFill(msg, 'fill-long') },
-    { name: 'the short-gap fill network', has: () => model.hasFillMlp, manifest: fillMlpManifest, url: urls.fillMlp,
-      set: (b, m) => model.setFillMlp(b, m), runs: (msg) => msg.type === 'fillGaps' && needsFill(msg, 'fill-mlp') },
   ];
 }
 
