@@ -42,7 +42,7 @@ from deeprep_train.paths import CACHE, ROOT
 from deeprep_train.motion.data import take_of
 from deeprep_train.motion.cond import _exp, _step, hermite_base
 from deeprep_train.motion.eval import l2p_stats
-from deeprep_train.motion.residual.data import Clips, Skeleton, mirror, quat_to_mat, rot_y
+from deeprep_train.motion.residual.data import Clips, Skeleton, canonical, mirror, quat_to_mat
 from deeprep_train.motion.residual.net import fk
 from deeprep_train.motion.residual_adv import quat_mul
 
@@ -54,13 +54,6 @@ T_RANGE = (8, 48)
 HIDDEN = 384
 
 
-def heading(q_hip):
-    """The turn about the vertical that takes the hips' forward axis (local
-    z) to +z: a 3x3 matrix (residual.data.canonical's rule)."""
-    f = quat_to_mat(q_hip)[:, 2]
-    return rot_y(-torch.atan2(f[0], f[2]))
-
-
 def window_features(root, quat, T, c, A, ctx=CTX, aft=AFT):
     """One window of ctx + T + aft frames (root [n,3], quat [n,K,4], double):
     the input x [D], the Hermite curve over the gap in the network's
@@ -69,7 +62,7 @@ def window_features(root, quat, T, c, A, ctx=CTX, aft=AFT):
     a, b = ctx - 1, ctx + T
     idx = [max(i, a - c + 1) for i in range(ctx)] + [min(b + i, b + A - 1) for i in range(aft)]
     qa, ra = quat[a], root[a]
-    C = heading(qa[0])
+    C, _ = canonical(root, quat, a)  # a's heading: the hips' forward axis turned into +z
     w = _step(qa.expand(len(idx), -1, -1), quat[idx])
     r = (root[idx] - ra) @ C.T
     base_r, base_q = root.clone(), quat.clone()
