@@ -301,6 +301,14 @@ pub struct HermiteEnds<'a> {
     pub next: Option<(DVec3, &'a [DQuat])>,
 }
 
+/// The rotation from `x` to `y` as a scaled axis (the short arc): the
+/// tangent at `x` that [`hermite_curve`] and the short-gap network
+/// ([`super::fill_mlp`]) work in; `cond.py`'s `_step` is its twin.
+pub(crate) fn step(x: DQuat, y: DQuat) -> DVec3 {
+    let y = if x.dot(y) < 0.0 { -y } else { y };
+    (x.inverse() * y).normalize().to_scaled_axis()
+}
+
 /// The context-tangent Hermite curve over a gap of `n = b - a` frames: the
 /// root and each rotation at frames `a + 1 .. b` (n - 1 of them). The end
 /// tangents are the context's velocities, the step from `a - 1` to `a` and
@@ -316,10 +324,6 @@ pub fn hermite_curve(e: &HermiteEnds, n: usize) -> Vec<(DVec3, Vec<DQuat>)> {
     let va = e.prev.map_or(chord, |(p, _)| pa - p);
     let vb = e.next.map_or(chord, |(q, _)| q - pb);
     let [qa, qb] = e.rot;
-    let step = |x: DQuat, y: DQuat| {
-        let y = if x.dot(y) < 0.0 { -y } else { y };
-        (x.inverse() * y).normalize().to_scaled_axis()
-    };
     // per joint, in the tangent space at qa: the end point, the two tangents
     let joints: Vec<(DVec3, DVec3, DVec3)> = (0..qa.len())
         .map(|j| {
@@ -358,53 +362,39 @@ pub(crate) fn gap_of(ck: &ClipKeys) -> Result<(usize, usize, usize)> {
     Ok((at, frames[at], frames[at + 1]))
 }
 
-/// The context-tangent Hermite curve over one gap's key span (`ck` on
-/// `clip`): the context frames as they are, the gap's frames on
-/// [`hermite_curve`] from the last frame before it to the first after it
-/// (the first step after it read when two frames after are known).
-pub fn hermite(clip: &Bvh, ck: &ClipKeys) -> Result<Motion> {
-    let pose = |f: usize| Keyframe::from_bvh(clip, f, 0);
-    let frames = &ck.clip_frames;
-    let (at, a, b) = gap_of(ck)?;
-    let (ka, kb) = (pose(a)?, pose(b)?);
-    let prev = (at > 0).then(|| pose(frames[at - 1])).transpose()?;
-    let next = (at + 2 < frames.len())
-        .then(|| pose(frames[at + 2]))
-        .transpose()?;
-    let root = |k: &Keyframe| {
-        DVec3::new(
-            k.positions[0] as f64,
-            k.positions[1] as f64,
-            k.positions[2] as f64,
-        )
-    };
-    let rot = |k: &Keyframe| -> Result<Vec<DQuat>> {
-        key_quats(k).ok_or_else(|| Error::Invalid("a fill needs whole poses".into()))
-    };
-    let (qa, qb) = (rot(&ka)?, rot(&kb)?);
-    let qp = prev.as_ref().map(rot).transpose()?;
-    let qn = next.as_ref().map(rot).transpose()?;
-    let ends = HermiteEnds {
-        root: [root(&ka), root(&kb)],
-        rot: [&qa, &qb],
-        prev: prev.as_ref().zip(qp.as_deref()).map(|(k, q)| (root(k), q)),
-        next: next.as_ref().zip(qn.as_deref()).map(|(k, q)| (root(k), q)),
-    };
-    let mut curve = hermite_curve(&ends, b - a).into_iter();
+/// A known frame of `clip` as a fill reads it: the root position and every
+/// joint's rotation (a whole pose).
+pub(crate) fn known_frame(clip: &Bvh, f: usize) -> Result<(DVec3, Vec<DQuat>)> {
+    let k = Keyframe::from_bvh(clip, f, 0)?;
+    let q = key_quats(&k).ok_or_else(|| Error::Invalid("a fill needs whole poses".into()))?;
+    let p = &k.positions;
+    Ok((DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64), q))
+}
+
+/// One gap's key span (`ck` on `clip`) as a motion: the context frames as
+/// they are, the gap's frames (`a + 1 .. b`, `gap`: each root and every
+/// joint's rotation) as a fill made them.
+pub(crate) fn span_motion(
+    clip: &Bvh,
+    ck: &ClipKeys,
+    (a, b): (usize, usize),
+    gap: Vec<(DVec3, Vec<DQuat>)>,
+) -> Result<Motion> {
+    let mut gap = gap.into_iter();
     let mut m = Motion {
         root: Vec::with_capacity(ck.frames()),
         rotations: Vec::with_capacity(ck.frames()),
     };
     for f in ck.first..=ck.last {
         if f <= a || f >= b {
-            let k = pose(f)?;
-            m.root.push(root(&k).to_array());
+            let k = Keyframe::from_bvh(clip, f, 0)?;
+            m.root.push([0, 1, 2].map(|i| k.positions[i] as f64));
             m.rotations.push(k.rotations.unwrap_or_default());
             continue;
         }
-        let (p, r) = curve
+        let (p, r) = gap
             .next()
-            .ok_or_else(|| Error::Invalid("the Hermite curve ended early".into()))?;
+            .ok_or_else(|| Error::Invalid("a fill's gap ended early".into()))?;
         m.root.push(p.to_array());
         m.rotations.push(
             r.iter()
@@ -413,6 +403,29 @@ pub fn hermite(clip: &Bvh, ck: &ClipKeys) -> Result<Motion> {
         );
     }
     Ok(m)
+}
+
+/// The context-tangent Hermite curve over one gap's key span (`ck` on
+/// `clip`): the context frames as they are, the gap's frames on
+/// [`hermite_curve`] from the last frame before it to the first after it
+/// (the first step after it read when two frames after are known).
+pub fn hermite(clip: &Bvh, ck: &ClipKeys) -> Result<Motion> {
+    let frames = &ck.clip_frames;
+    let (at, a, b) = gap_of(ck)?;
+    let ((ra, qa), (rb, qb)) = (known_frame(clip, a)?, known_frame(clip, b)?);
+    let prev = (at > 0)
+        .then(|| known_frame(clip, frames[at - 1]))
+        .transpose()?;
+    let next = (at + 2 < frames.len())
+        .then(|| known_frame(clip, frames[at + 2]))
+        .transpose()?;
+    let ends = HermiteEnds {
+        root: [ra, rb],
+        rot: [&qa, &qb],
+        prev: prev.as_ref().map(|(r, q)| (*r, q.as_slice())),
+        next: next.as_ref().map(|(r, q)| (*r, q.as_slice())),
+    };
+    span_motion(clip, ck, (a, b), hermite_curve(&ends, b - a))
 }
 
 #[cfg(test)]

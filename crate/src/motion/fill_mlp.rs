@@ -19,10 +19,9 @@
 //! ([`super::fill::method_for`]); `--method fill-mlp` runs it on any gap.
 
 use super::clip::ClipKeys;
-use super::fill::{gap_of, hermite, hermite_curve, key_quats, HermiteEnds};
-use super::{Keyframe, Motion};
+use super::fill::{gap_of, hermite_curve, known_frame, span_motion, step, HermiteEnds};
+use super::Motion;
 use crate::error::{Error, Result};
-use crate::rotation::from_glam_f64;
 use crate::runtime::{Model, TensorF32};
 use crate::skeleton::Bvh;
 use glam::{DMat3, DQuat, DVec3};
@@ -112,13 +111,6 @@ pub struct FillMlp {
     net: Model,
     m: Manifest,
     band: (usize, usize),
-}
-
-/// The rotation from `x` to `y` as a scaled axis (the short arc), as
-/// `cond.py`'s `_step`.
-fn step(x: DQuat, y: DQuat) -> DVec3 {
-    let y = if x.dot(y) < 0.0 { -y } else { y };
-    (x.inverse() * y).normalize().to_scaled_axis()
 }
 
 impl FillMlp {
@@ -256,8 +248,7 @@ impl FillMlp {
 
     /// One gap's key span (`ck` on `clip`, as [`super::fill::fill`] gives
     /// it): the context frames as they are, the gap's frames by
-    /// [`FillMlp::correct`]; joints without channels as the Hermite curve
-    /// leaves them.
+    /// [`FillMlp::correct`].
     pub fn fill(&self, clip: &Bvh, ck: &ClipKeys) -> Result<Motion> {
         let rotating: Vec<usize> = (0..clip.joints.len())
             .filter(|&j| !clip.joints[j].channels.is_empty())
@@ -275,37 +266,35 @@ impl FillMlp {
         }
         let (at, a, b) = gap_of(ck)?;
         let frames = &ck.clip_frames;
-        let read = |f: usize| -> Result<(DVec3, Vec<DQuat>)> {
-            let k = Keyframe::from_bvh(clip, f, 0)?;
-            let q =
-                key_quats(&k).ok_or_else(|| Error::Invalid("a fill needs whole poses".into()))?;
-            let p = &k.positions;
-            Ok((
-                DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64),
-                rotating.iter().map(|&j| q[j]).collect(),
-            ))
-        };
         let lo = (at + 1).saturating_sub(self.m.context);
         let hi = (at + 1 + self.m.after).min(frames.len());
-        let edges = Edges {
-            before: frames[lo..=at]
-                .iter()
-                .map(|&f| read(f))
-                .collect::<Result<_>>()?,
-            after: frames[at + 1..hi]
-                .iter()
-                .map(|&f| read(f))
-                .collect::<Result<_>>()?,
+        let read = |fs: &[usize]| -> Result<Vec<(DVec3, Vec<DQuat>)>> {
+            fs.iter().map(|&f| known_frame(clip, f)).collect()
         };
-        let gap = self.correct(&edges, b - a - 1)?;
-        let mut m = hermite(clip, ck)?;
-        for (i, (p, qs)) in gap.into_iter().enumerate() {
-            let t = a + 1 + i - ck.first;
-            m.root[t] = p.to_array();
-            for (&j, q) in rotating.iter().zip(qs) {
-                m.rotations[t][j] = from_glam_f64(&DMat3::from_quat(q));
-            }
-        }
-        Ok(m)
+        let (before, after) = (read(&frames[lo..=at])?, read(&frames[at + 1..hi])?);
+        let rotating_only = |fs: &[(DVec3, Vec<DQuat>)]| -> Vec<(DVec3, Vec<DQuat>)> {
+            fs.iter()
+                .map(|(p, q)| (*p, rotating.iter().map(|&j| q[j]).collect()))
+                .collect()
+        };
+        let edges = Edges {
+            before: rotating_only(&before),
+            after: rotating_only(&after),
+        };
+        // joints without channels keep frame a's rotation (the identity: a
+        // BVH joint without channels never turns)
+        let at_a = &before[before.len() - 1].1;
+        let gap = self
+            .correct(&edges, b - a - 1)?
+            .into_iter()
+            .map(|(p, qs)| {
+                let mut q = at_a.clone();
+                for (&j, qj) in rotating.iter().zip(qs) {
+                    q[j] = qj;
+                }
+                (p, q)
+            })
+            .collect();
+        span_motion(clip, ck, (a, b), gap)
     }
 }
