@@ -114,20 +114,22 @@ fn parse_inbetween(args: &[&str]) -> Result<Opts, String> {
     Ok(o)
 }
 
+/// The text of `name` in the models folder, `None` when the folder lacks it.
+fn read_manifest(o: &Opts, name: &str) -> Result<Option<String>, String> {
+    let p = std::path::Path::new(&o.models).join(name);
+    if !p.exists() {
+        return Ok(None);
+    }
+    std::fs::read_to_string(&p)
+        .map(Some)
+        .map_err(|e| format!("{}: {e}", p.display()))
+}
+
 /// What the models folder holds, for the planner (`motion::plan`): the
 /// generator's default variation and the other networks' manifests, each
 /// absent when its files are (interpolation needs none).
 fn loaded(o: &Opts) -> Result<deeprep::motion::plan::Loaded, String> {
-    let dir = std::path::Path::new(&o.models);
-    let read = |name: &str| -> Result<Option<String>, String> {
-        let p = dir.join(name);
-        if !p.exists() {
-            return Ok(None);
-        }
-        std::fs::read_to_string(&p)
-            .map(Some)
-            .map_err(|e| format!("{}: {e}", p.display()))
-    };
+    let read = |name: &str| read_manifest(o, name);
     let generator = match read("tween_generator.manifest.json")? {
         Some(t) => Some(
             deeprep::motion::manifest::parse(&t)
@@ -362,17 +364,10 @@ fn fill(
     // the short-gap network: its band from its manifest; loaded on the
     // first gap that runs it
     let dir = std::path::Path::new(&o.models);
-    let mlp_manifest = dir.join("tween_fill_mlp.manifest.json");
-    let fill_mlp = if mlp_manifest.exists() {
-        let text = std::fs::read_to_string(&mlp_manifest)
-            .map_err(|e| format!("{}: {e}", mlp_manifest.display()))?;
-        Some(
-            deeprep::motion::fill_mlp::band_of_manifest(&text)
-                .map_err(|e| format!("tween_fill_mlp.manifest.json: {e}"))?,
-        )
-    } else {
-        None
-    };
+    let fill_mlp = read_manifest(o, "tween_fill_mlp.manifest.json")?
+        .map(|t| deeprep::motion::fill_mlp::band_of_manifest(&t))
+        .transpose()
+        .map_err(|e| format!("tween_fill_mlp.manifest.json: {e}"))?;
     let bands = fill::Bands {
         fill_mlp,
         fill: l.fill.and_then(|f| f.fill_gaps),
