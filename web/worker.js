@@ -64,7 +64,6 @@ let condDnaForModel = false;
 // `model` fill gives each ([fill_from, fill_up_to]; motion::fill::method_for):
 // 'fill-mlp' (tween_fill_mlp, the short-gap network over a gap's edges),
 // 'fill' (tween_fill) and 'fill-long' (tween_fill_long, a residual network)
-let fillMlpManifest = null;
 let fillMlpRange = null;
 let fillManifest = null;
 let fillRange = null;
@@ -227,10 +226,6 @@ async function handleInit(msg) {
     condDna: manifestOf(msg.models?.condDna, urls.condDnaManifest),
     fill: manifestOf(msg.models?.fill, urls.fillManifest),
     fillLong: manifestOf(msg.models?.fillLong, urls.fillLongManifest),
-    // the short-gap fill network: none is bundled yet (docs/fill.md), so the
-    // package has no file to fetch; msg.models.fillMlp (bytes and manifest)
-    // loads one
-    fillMlp: Promise.resolve(null),
   };
   try {
     let g, p, m;
@@ -296,7 +291,9 @@ async function handleInit(msg) {
     // The gap-filling networks (issue 50) on the first fillGaps that runs each (needsFill).
     [fillManifest, fillRange] = await bandedAtInit(msg, 'fill', (b, m) => model.setFill(b, m), manifests.fill);
     [fillLongManifest, fillLongRange] = await bandedAtInit(msg, 'fillLong', (b, m) => model.setFillLong(b, m), manifests.fillLong);
-    [fillMlpManifest, fillMlpRange] = await bandedAtInit(msg, 'fillMlp', (b, m) => model.setFillMlp(b, m), manifests.fillMlp);
+    // the short-gap fill network: none is bundled yet (docs/fill.md), so there
+    // is no file to fetch; msg.models.fillMlp (bytes and manifest) loads one now
+    [, fillMlpRange] = await bandedAtInit(msg, 'fillMlp', (b, m) => model.setFillMlp(b, m), Promise.resolve(null));
     // One plan for any length now, so the first synthesis of each length
     // does not wait for tract to optimize one (runtime::Model::prepare_any_shape),
     // then the code a request runs, so that the user's first is not the one
@@ -316,7 +313,7 @@ async function handleInit(msg) {
                   condDna: condDna || model.hasCondDna || condDnaManifest !== null,
                   hasFill: model.hasFill || fillManifest !== null,
                   hasFillLong: model.hasFillLong || fillLongManifest !== null,
-                  hasFillMlp: model.hasFillMlp || fillMlpManifest !== null,
+                  hasFillMlp: model.hasFillMlp,
                   fillBands: { 'fill-mlp': fillMlpRange, fill: fillRange, 'fill-long': fillLongRange },
                   defaultVariation: model.defaultVariation, wasm: wasmBuild });
     warmWhenIdle(WARM_UP_ROUNDS.whenIdle);
